@@ -1,0 +1,18 @@
+# Records the source revision (git commit, "-dirty" when the tree has changes) at configure
+# time so that every result can name the code that produced it.
+find_package(Git QUIET)
+set(COMPACTION_SOURCE_REVISION "unknown")
+if(GIT_FOUND AND EXISTS ${CMAKE_SOURCE_DIR}/.git)
+  execute_process(COMMAND ${GIT_EXECUTABLE} rev-parse --short=12 HEAD
+    WORKING_DIRECTORY ${CMAKE_SOURCE_DIR} OUTPUT_VARIABLE _rev
+    OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET RESULT_VARIABLE _rc)
+  if(_rc EQUAL 0 AND _rev)
+    execute_process(COMMAND ${GIT_EXECUTABLE} status --porcelain --untracked-files=no
+      WORKING_DIRECTORY ${CMAKE_SOURCE_DIR} OUTPUT_VARIABLE _dirty
+      OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+    set(COMPACTION_SOURCE_REVISION "${_rev}")
+    if(_dirty)
+      set(COMPACTION_SOURCE_REVISION "${_rev}-dirty")
+    endif()
+  endif()
+endif()

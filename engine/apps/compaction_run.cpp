@@ -1,0 +1,120 @@
+// compaction-run: runs one scene and writes its result bundle. See --help and docs/runner.md.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+#include "cli_args.hpp"
+#include "compaction/bundle.hpp"
+#include "compaction/simulation.hpp"
+
+namespace {
+
+std::atomic<bool> g_cancel{false};
+
+extern "C" void on_signal(int) { g_cancel.store(true); }
+
+void print_json_line(const nlohmann::json& j) {
+  std::cout << j.dump() << '\n' << std::flush;
+}
+
+// Terminal progress bar on stderr, redrawn in place.
+void draw_bar(const compaction::Progress& p) {
+  const double f = p.eps_end > 0 ? p.eps / p.eps_end : 1.0;
+  const int width = 30, filled = static_cast<int>(f * width + 0.5);
+  const double eta = f > 0 ? p.wall_seconds * (1.0 - f) / f : 0.0;
+  std::fprintf(stderr, "\r[%.*s%*s] eps %.4f/%.4f %5.1f%%  steps %lld  %.0fs  eta %.0fs ",
+               filled, "##############################", width - filled, "", p.eps, p.eps_end,
+               100.0 * f, static_cast<long long>(p.steps), p.wall_seconds, eta);
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace compaction;
+  auto log = spdlog::stderr_color_mt("run");
+  spdlog::set_default_logger(log);
+
+  cli::Options opt;
+  const auto errors = cli::parse(argc, argv, opt);
+  if (opt.help) {
+    std::cout << cli::help_text();
+    return 0;
+  }
+  if (opt.version) {
+    std::cout << "compaction-run " << engine_version() << " (" << source_revision() << ")\n";
+    return 0;
+  }
+  if (!errors.empty()) {
+    for (const auto& e : errors) std::cerr << "error: " << e << '\n';
+    std::cerr << "see compaction-run --help\n";
+    return 2;
+  }
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  const SceneParams& p = opt.params;
+  auto mode = opt.progress;
+  if (mode == cli::ProgressMode::automatic) {
+    mode = isatty(STDERR_FILENO) ? cli::ProgressMode::bar : cli::ProgressMode::log;
+  }
+  if (mode == cli::ProgressMode::json) log->set_level(spdlog::level::warn);
+
+  log->info("scene S={} R={} phi={} geometry={} cells_per_unit={} eps_end={} out={}", p.S, p.R,
+            p.phi, to_string(p.geometry), p.cells_per_unit, p.eps_final(), opt.out_dir);
+
+  RunControl control;
+  control.cancel = &g_cancel;
+  double next_log = 0.1;
+  control.on_progress = [&](const Progress& pr) {
+    switch (mode) {
+      case cli::ProgressMode::json:
+        print_json_line({{"event", "progress"},
+                         {"eps", pr.eps},
+                         {"eps_end", pr.eps_end},
+                         {"steps", pr.steps},
+                         {"wall_seconds", pr.wall_seconds}});
+        break;
+      case cli::ProgressMode::bar:
+        draw_bar(pr);
+        break;
+      case cli::ProgressMode::log:
+        if (pr.eps >= next_log * pr.eps_end - 1e-12) {
+          log->info("progress eps={:.4f}/{:.4f} steps={} wall={:.1f}s", pr.eps, pr.eps_end,
+                    pr.steps, pr.wall_seconds);
+          while (next_log * pr.eps_end <= pr.eps + 1e-12) next_log += 0.1;
+        }
+        break;
+      default:
+        break;
+    }
+  };
+  if (mode == cli::ProgressMode::json) {
+    print_json_line({{"event", "start"}, {"eps_end", p.eps_final()}});
+  }
+
+  try {
+    const RunResult r = run_scene(p, control);
+    if (mode == cli::ProgressMode::bar) std::fputc('\n', stderr);
+    write_bundle(opt.out_dir, p, r);
+    log->info("done status={} steps={} particles={} wall={:.2f}s ns/particle-step={:.1f}{}{}",
+              to_string(r.status), r.steps, r.n_particles, r.wall_seconds,
+              r.ns_per_particle_step, r.reason.empty() ? "" : " reason=", r.reason);
+    if (mode == cli::ProgressMode::json) {
+      print_json_line({{"event", "done"},
+                       {"status", to_string(r.status)},
+                       {"reason", r.reason},
+                       {"out", opt.out_dir}});
+    }
+    return r.status == RunStatus::cancelled ? 3 : 0;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return 1;
+  }
+}

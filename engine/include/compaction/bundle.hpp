@@ -1,0 +1,39 @@
+// The result bundle: a directory holding one run's summary, arrays and pictures.
+//
+//   summary.json           parameters, versions, counts, timings, status (schema/result.schema.json)
+//   frames.csv             per-frame observables: eps, plate stresses (also / q_y), diagnostics
+//   spacetime.npy          float32 [n_frames, n_rows]: plastic strain rate / (V / h0)
+//   spacetime.png          a picture of it (height up, eps to the right)
+//   snapshot_<eps>.npy     float32 [n_particles, 5]: x, y, strain rate / (V/h0), plastic strain, J
+//   snapshot_<eps>.png     the particles coloured by plastic strain rate
+//
+// The .npy files follow NumPy's documented format 1.0 (schema/bundle-format.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "compaction/params.hpp"
+#include "compaction/result.hpp"
+
+namespace compaction {
+
+// Writes the whole bundle into dir (created if needed). Throws std::runtime_error on I/O errors.
+void write_bundle(const std::filesystem::path& dir, const SceneParams& p, const RunResult& r);
+
+// The summary.json of a run, without the big arrays.
+nlohmann::json summary_json(const SceneParams& p, const RunResult& r);
+
+// Reads a bundle back: the parameters, the status and counts from summary.json, the frames from
+// frames.csv, the space-time map and the snapshots from their .npy files.
+// Throws std::runtime_error naming the file when something is missing or malformed.
+struct Bundle {
+  SceneParams params;
+  RunResult result;
+  nlohmann::json summary;
+};
+Bundle read_bundle(const std::filesystem::path& dir);
+
+}  // namespace compaction

@@ -1,0 +1,91 @@
+// Scene parameters of one compaction run: the dimensionless inputs (S, R, phi), the fixed
+// material constants, the geometry and the numerics. This is the engine's public input type;
+// the server and the worker see the engine only through it and through result.hpp.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace compaction {
+
+enum class Geometry {
+  pseudo1d,  // one unit cell wide, periodic in x by index wrapping (the workhorse of sweeps)
+  full2d,    // n_cols x n_rows cells between frictionless side walls
+};
+
+enum class Transfer {
+  apic,     // affine particle-in-cell (default): conserves linear and angular momentum
+  pic_flip  // blend: v_p = flip_ratio * FLIP + (1 - flip_ratio) * PIC
+};
+
+enum class PlateContact {
+  bonded,     // plates impose their normal velocity on the nodes they cover (no separation)
+  unilateral  // plates only push: the material may separate from a plate
+};
+
+struct SceneParams {
+  // Dimensionless inputs (the paper's Eq. 3).
+  double S = 4e-3;    // Mach number V / sqrt(E / rho)                          [-]
+  double R = 1e-5;    // relative strength q_y / E                               [-]
+  double phi = 0.4;   // solid area fraction, [0.2, 0.8]; 1 = solid column (tests) [-]
+
+  // Material constants; only S, R and phi change the dimensionless result.
+  double rho = 1000.0;  // density of the solid                                   [kg/m^2]
+  double nu = 0.3;      // Poisson's ratio                                        [-]
+  double q_y = 250.0;   // von Mises yield strength, sqrt(3/2 s:s) <= q_y         [N/m]
+  double h0 = 1.0;      // initial specimen height (only scales time)            [m]
+
+  // Geometry.
+  Geometry geometry = Geometry::pseudo1d;
+  int n_cols = 17;  // unit cells across (full2d only; pseudo1d always has one)  [-]
+  int n_rows = 34;  // unit cells along the compression axis                     [-]
+
+  // Numerics.
+  int cells_per_unit = 20;      // grid cells along one unit cell's side          [-]
+  int particles_per_cell = 2;   // particles per grid cell per direction (2 -> 2x2) [-]
+  double cfl = 0.5;             // dt = cfl * dx / (c_P + max particle speed)    [-]
+  Transfer transfer = Transfer::apic;
+  double flip_ratio = 0.95;     // FLIP share of the pic_flip blend               [-]
+  PlateContact contact = PlateContact::bonded;
+  double perturbation = 0.0;    // random particle offset, fraction of spacing    [-]
+  std::uint64_t seed = 1;       // seed of the perturbation                       [-]
+
+  // Run control and outputs.
+  double eps_end = -1.0;        // final imposed strain V t / h0; <= 0: fully dense, 1 - phi
+  double d_eps = 0.002;         // strain between output frames                   [-]
+  std::vector<double> snapshot_eps = {0.2};  // strains of particle snapshots     [-]
+  int threads = 1;              // worker threads of the time step                [-]
+
+  // Derived quantities.
+  double eps_final() const { return eps_end > 0.0 ? eps_end : 1.0 - phi; }
+  double youngs_modulus() const { return q_y / R; }                      // E  [N/m]
+  double lame_lambda() const;                                             //    [N/m]
+  double lame_mu() const;                                                 //    [N/m]
+  double bar_wave_speed() const;     // sqrt(E / rho), the speed S is measured with [m/s]
+  double p_wave_speed() const;       // sqrt((lambda + 2 mu) / rho)             [m/s]
+  double plate_speed() const { return S * bar_wave_speed(); }             // V  [m/s]
+  double unit_cell() const { return h0 / n_rows; }                        // L  [m]
+  double hole_side() const;          // L sqrt(1 - phi)                        [m]
+  int cols() const { return geometry == Geometry::pseudo1d ? 1 : n_cols; }
+  double width() const { return cols() * unit_cell(); }                   //    [m]
+};
+
+// One problem with one field of the parameters, e.g. {"phi", "must be in [0.2, 0.8], got 0.9"}.
+struct FieldError {
+  std::string field;
+  std::string message;
+};
+
+// Every problem with the parameters (empty when they are valid). The limits are those of the
+// model's validity and of what a run can afford; the messages name the field and the value.
+std::vector<FieldError> validate(const SceneParams& p);
+
+const char* to_string(Geometry g);
+const char* to_string(Transfer t);
+const char* to_string(PlateContact c);
+bool parse(const std::string& s, Geometry& out);
+bool parse(const std::string& s, Transfer& out);
+bool parse(const std::string& s, PlateContact& out);
+
+}  // namespace compaction

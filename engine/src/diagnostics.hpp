@@ -1,0 +1,33 @@
+// What a run records once per frame: plate stresses, the space-time map row, energies, strut
+// deflections, and the particle snapshots that fall due.
+#pragma once
+
+#include <vector>
+
+#include "compaction/params.hpp"
+#include "compaction/result.hpp"
+#include "state.hpp"
+
+namespace compaction {
+
+class FrameRecorder {
+ public:
+  FrameRecorder(const SceneParams& p, const State& s);
+
+  // Closes the frame [eps_begin, eps_end] of imposed strain: appends a Frame and a row of the
+  // space-time map to `out`, takes a snapshot when one is due, and resets the per-frame
+  // accumulators of the particles (plastic increments) and of the clock (plate impulses).
+  void record(State& s, double eps_begin, double eps_end, RunResult& out);
+
+ private:
+  const SceneParams& p_;
+  double x_lo_, x_hi_;  // particles outside [x_lo, x_hi) are left out of the map (wall zones)
+  std::vector<double> row_sum_;
+  std::vector<int> row_count_;
+  std::vector<double> mid_sum_, end_sum_;
+  std::vector<int> mid_n_, end_n_;
+  std::vector<double> snapshots_due_;  // ascending
+  std::size_t next_snapshot_ = 0;
+};
+
+}  // namespace compaction

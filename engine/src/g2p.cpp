@@ -1,0 +1,111 @@
+// Grid to particle transfer, then the particle's own update (Hu et al. 2018, Eqs. 17-19, 30):
+//   v_p = sum w v_i                     (apic; pic_flip blends in the FLIP increment)
+//   C_p = D^-1 sum w v_i (x_i - x_p)^T  (= the velocity gradient for quadratic B-splines)
+//   x_p += dt v_p,  Fe <- (I + dt C_p) Fe,  then the return mapping (plasticity.hpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "kernel.hpp"
+#include "stages.hpp"
+
+namespace compaction {
+
+namespace {
+
+template <bool kApic>
+StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
+                   std::size_t end, double dt) {
+  const double dx = g.dx, inv_dx = g.inv_dx;
+  const double c_scale = kernel::kInverseInertia * inv_dx * inv_dx;
+  const int nx = g.nx;
+  const int* col = g.col.data();
+  const Node* nodes = g.arrays.nodes.data();
+  const double alpha = s.flip_ratio;
+  const bool periodic = g.periodic_x;
+  const double width = s.width;
+  StepMeasure m;
+  m.y_min = m.x_min = std::numeric_limits<double>::infinity();
+  m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+  for (std::size_t p = begin; p < end; ++p) {
+    const auto kx = kernel::quadratic(P.x[p] * inv_dx + g.gx);
+    const auto ky = kernel::quadratic(P.y[p] * inv_dx + g.gy);
+    double vx = 0, vy = 0, bxx = 0, bxy = 0, byx = 0, byy = 0, ox = 0, oy = 0;
+    for (int b = 0; b < 3; ++b) {
+      const double dy = (b - ky.fx) * dx;
+      const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
+      for (int a = 0; a < 3; ++a) {
+        const double w = kx.w[a] * ky.w[b];
+        const double dxa = (a - kx.fx) * dx;
+        const std::size_t i = row + col[kx.base + 1 + a];
+        const Node& n = nodes[i];
+        const double wvx = w * n.vx, wvy = w * n.vy;
+        vx += wvx, vy += wvy;
+        bxx += wvx * dxa, bxy += wvx * dy;
+        byx += wvy * dxa, byy += wvy * dy;
+        if constexpr (!kApic) {
+          ox += w * g.arrays.mx[i];
+          oy += w * g.arrays.my[i];
+        }
+      }
+    }
+    const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
+    P.C[p] = c;
+    if constexpr (kApic) {
+      P.vx[p] = vx, P.vy[p] = vy;
+    } else {
+      P.vx[p] = alpha * (P.vx[p] + vx - ox) + (1.0 - alpha) * vx;
+      P.vy[p] = alpha * (P.vy[p] + vy - oy) + (1.0 - alpha) * vy;
+    }
+    double x = P.x[p] + dt * vx;
+    const double y = P.y[p] + dt * vy;
+    if (periodic) x = x >= width ? x - width : (x < 0.0 ? x + width : x);
+    P.x[p] = x, P.y[p] = y;
+
+    Mat2& f = P.Fe[p];  // Fe <- (I + dt C) Fe
+    const Mat2 f0 = f;
+    f.xx += dt * (c.xx * f0.xx + c.xy * f0.yx);
+    f.xy += dt * (c.xx * f0.xy + c.xy * f0.yy);
+    f.yx += dt * (c.yx * f0.xx + c.yy * f0.yx);
+    f.yy += dt * (c.yx * f0.xy + c.yy * f0.yy);
+    const double plastic = return_map(f, s.material, P.tau[p]);
+    if (std::isnan(plastic)) m.bad_jacobian = true;
+    P.dep[p] += plastic;
+    P.ep[p] += plastic;
+
+    const double v2 = P.vx[p] * P.vx[p] + P.vy[p] * P.vy[p];
+    m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks
+    m.y_min = std::min(m.y_min, y), m.y_max = std::max(m.y_max, y);
+    m.x_min = std::min(m.x_min, x), m.x_max = std::max(m.x_max, x);
+  }
+  return m;
+}
+
+StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
+  StepMeasure m;
+  m.max_v2 = std::isnan(a.max_v2) || std::isnan(b.max_v2) ? std::nan("")
+                                                           : std::max(a.max_v2, b.max_v2);
+  m.y_min = std::min(a.y_min, b.y_min), m.y_max = std::max(a.y_max, b.y_max);
+  m.x_min = std::min(a.x_min, b.x_min), m.x_max = std::max(a.x_max, b.x_max);
+  m.bad_jacobian = a.bad_jacobian || b.bad_jacobian;
+  return m;
+}
+
+}  // namespace
+
+void g2p(State& s, double dt, ThreadPool& pool) {
+  std::vector<StepMeasure>& parts = s.partial_measures;  // sized once, one per thread
+  const std::size_t n = s.particles.n;
+  const bool apic = s.setup.transfer == Transfer::apic;
+  pool.run([&](int t) {
+    const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
+    parts[t] = apic ? gather<true>(s.particles, s.setup, s.grid, b, e, dt)
+                    : gather<false>(s.particles, s.setup, s.grid, b, e, dt);
+  });
+  StepMeasure m = parts[0];
+  for (std::size_t t = 1; t < parts.size(); ++t) m = combine(m, parts[t]);
+  s.measure = m;
+}
+
+
+}  // namespace compaction

@@ -1,0 +1,70 @@
+// Grid update: momentum to velocity, then the rigid boundaries.
+//
+// Plates are frictionless and rigid: the bottom plate at y = 0 is fixed, the top plate at
+// y = h0 - V t moves down at V. They act on the nodes at or beyond them, on the normal velocity
+// only. "bonded" imposes the plate's velocity (the material cannot separate); "unilateral" only
+// pushes (v_y >= 0 at the bottom, v_y <= -V at the top). Side walls (full2d) do the same in x.
+// The change of momentum the plates impose is their reaction impulse on the material: the plate
+// stress is that impulse per unit width and time, averaged over a frame (diagnostics.cpp).
+#include <algorithm>
+
+#include "stages.hpp"
+
+namespace compaction {
+
+namespace {
+
+// The velocity a plate with normal velocity `plate` leaves a node with normal velocity `v`,
+// for a plate that pushes in direction `push` (+1 pushes towards +y or +x, -1 towards -).
+inline double constrain(double v, double plate, double push, PlateContact contact) {
+  if (contact == PlateContact::bonded) return plate;
+  return push > 0 ? std::max(v, plate) : std::min(v, plate);
+}
+
+}  // namespace
+
+void grid_update(State& s, double /*dt*/) {
+  Grid& g = s.grid;
+  const Setup& su = s.setup;
+  const bool flip = su.transfer == Transfer::pic_flip;
+  const double top = s.clock.top_y(su);
+  double top_impulse = 0.0, bottom_impulse = 0.0;
+  Node* nodes = g.arrays.nodes.data();
+  for (int j = g.row_lo; j < g.row_hi; ++j) {
+    const double y = (j - g.gy) * g.dx;
+    const bool at_bottom = y <= 0.0, at_top = y >= top;
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * g.nx + i;
+      Node& n = nodes[k];
+      if (n.m <= 0.0) continue;
+      const double inv_m = 1.0 / n.m;
+      double vx = n.vx * inv_m, vy = n.vy * inv_m;
+      if (flip) {  // v_old: the velocity before forces, for the FLIP increment
+        g.arrays.mx[k] *= inv_m;
+        g.arrays.my[k] *= inv_m;
+      }
+      if (at_bottom) {
+        const double c = constrain(vy, 0.0, +1, su.contact);
+        bottom_impulse += n.m * (c - vy);
+        vy = c;
+      }
+      if (at_top) {
+        const double c = constrain(vy, -su.V, -1, su.contact);
+        top_impulse += n.m * (c - vy);
+        vy = c;
+      }
+      if (su.side_walls) {
+        const double x = (i - g.gx) * g.dx;
+        if (x <= 0.0) vx = constrain(vx, 0.0, +1, su.contact);
+        if (x >= su.width) vx = constrain(vx, 0.0, -1, su.contact);
+      }
+      n.vx = vx;
+      n.vy = vy;
+    }
+  }
+  s.clock.top_impulse += top_impulse;
+  s.clock.bottom_impulse += bottom_impulse;
+  s.clock.plate_work += -su.V * top_impulse;  // the bottom plate and the walls do not move
+}
+
+}  // namespace compaction

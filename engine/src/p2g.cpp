@@ -1,0 +1,101 @@
+// Particle to grid transfer (APIC / MLS-MPM, Hu et al. 2018, Eq. 29; Jiang et al. 2015).
+//
+// For each particle p and stencil node i (weight w, offset d = x_i - x_p):
+//   m_i += w m_p
+//   (m v)_i += w (m_p v_p + Q_p d),  Q_p = -dt V0 D^-1 tau_p + m_p C_p   (apic)
+// pic_flip keeps the momentum m_p v_p apart (mx, my) so the grid update can form v_old, and
+// drops the affine part m_p C_p from Q.
+#include <algorithm>
+
+#include "kernel.hpp"
+#include "stages.hpp"
+
+namespace compaction {
+
+namespace {
+
+void clear_rows(const Grid& g, NodeArrays& a, bool flip) {
+  const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
+  const std::size_t hi = static_cast<std::size_t>(g.row_hi) * g.nx;
+  std::fill(a.nodes.begin() + lo, a.nodes.begin() + hi, Node{0, 0, 0, 0});
+  if (flip) {
+    std::fill(a.mx.begin() + lo, a.mx.begin() + hi, 0.0);
+    std::fill(a.my.begin() + lo, a.my.begin() + hi, 0.0);
+  }
+}
+
+template <bool kApic>
+void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
+             std::size_t begin, std::size_t end, double dt) {
+  const double dx = g.dx, inv_dx = g.inv_dx, m = P.mass;
+  const double stress = -dt * s.scale;
+  const int nx = g.nx;
+  const int* col = g.col.data();
+  Node* nodes = out.nodes.data();
+  for (std::size_t p = begin; p < end; ++p) {
+    const auto kx = kernel::quadratic(P.x[p] * inv_dx + g.gx);
+    const auto ky = kernel::quadratic(P.y[p] * inv_dx + g.gy);
+    const Sym2& t = P.tau[p];
+    Mat2 q{stress * t.xx, stress * t.xy, stress * t.xy, stress * t.yy};
+    if constexpr (kApic) {
+      const Mat2& c = P.C[p];
+      q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
+    }
+    const double mvx = m * P.vx[p], mvy = m * P.vy[p];
+    for (int b = 0; b < 3; ++b) {
+      const double dy = (b - ky.fx) * dx;
+      const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
+      const double qx = mvx + q.xy * dy, qy = mvy + q.yy * dy;
+      for (int a = 0; a < 3; ++a) {
+        const double w = kx.w[a] * ky.w[b];
+        const double dxa = (a - kx.fx) * dx;
+        const std::size_t i = row + col[kx.base + 1 + a];
+        Node& n = nodes[i];
+        n.m += w * m;
+        n.vx += w * (qx + q.xx * dxa);
+        n.vy += w * (qy + q.yx * dxa);
+        if constexpr (!kApic) {
+          out.mx[i] += w * mvx;
+          out.my[i] += w * mvy;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void p2g(State& s, double dt, ThreadPool& pool) {
+  Grid& g = s.grid;
+  const bool apic = s.setup.transfer == Transfer::apic;
+  const std::size_t n = s.particles.n;
+  pool.run([&](int t) {
+    NodeArrays& out = t == 0 ? g.arrays : g.scratch[t - 1];
+    clear_rows(g, out, !apic);
+    const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
+    if (apic) scatter<true>(s.particles, s.setup, g, out, b, e, dt);
+    else scatter<false>(s.particles, s.setup, g, out, b, e, dt);
+  });
+  if (pool.size() == 1) return;
+  // Sum the threads' arrays into the grid, each thread a share of the rows, in a fixed order
+  // (thread 1, 2, ...) so that results do not depend on timing.
+  const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
+  const std::size_t count = static_cast<std::size_t>(g.row_hi - g.row_lo) * g.nx;
+  pool.run([&](int t) {
+    const std::size_t b = lo + pool.begin(count, t), e = lo + pool.end(count, t);
+    for (const NodeArrays& src : g.scratch) {
+      for (std::size_t i = b; i < e; ++i) {
+        Node& d = g.arrays.nodes[i];
+        d.m += src.nodes[i].m, d.vx += src.nodes[i].vx, d.vy += src.nodes[i].vy;
+      }
+      if (!apic) {
+        for (std::size_t i = b; i < e; ++i) {
+          g.arrays.mx[i] += src.mx[i];
+          g.arrays.my[i] += src.my[i];
+        }
+      }
+    }
+  });
+}
+
+}  // namespace compaction

@@ -1,0 +1,115 @@
+// Derived material quantities and validation of the scene parameters.
+#include "compaction/params.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace compaction {
+
+double SceneParams::lame_lambda() const {
+  const double E = youngs_modulus();
+  return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+double SceneParams::lame_mu() const { return youngs_modulus() / (2.0 * (1.0 + nu)); }
+double SceneParams::bar_wave_speed() const { return std::sqrt(youngs_modulus() / rho); }
+double SceneParams::p_wave_speed() const {
+  return std::sqrt((lame_lambda() + 2.0 * lame_mu()) / rho);
+}
+double SceneParams::hole_side() const { return unit_cell() * std::sqrt(1.0 - phi); }
+
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+// Adds an error unless lo <= v <= hi (or lo < v < hi when open); NaN always fails.
+void check_range(std::vector<FieldError>& errors, const char* field, double v, double lo,
+                 double hi, bool open = false) {
+  const bool ok = std::isfinite(v) && (open ? (v > lo && v < hi) : (v >= lo && v <= hi));
+  if (!ok) {
+    errors.push_back({field, std::string("must be ") + (open ? "in (" : "in [") + num(lo) +
+                                 ", " + num(hi) + (open ? ")" : "]") + ", got " + num(v)});
+  }
+}
+
+}  // namespace
+
+std::vector<FieldError> validate(const SceneParams& p) {
+  std::vector<FieldError> e;
+  check_range(e, "S", p.S, 0.0, 1.0, true);
+  check_range(e, "R", p.R, 0.0, 1.0, true);
+  // phi = 1 is the solid column of the verification tests (no holes; needs an explicit eps_end).
+  if (p.phi != 1.0) check_range(e, "phi", p.phi, 0.2, 0.8);
+  if (p.phi == 1.0 && !(p.eps_end > 0.0)) {
+    e.push_back({"eps_end", "must be set (> 0) for a solid column (phi = 1)"});
+  }
+  check_range(e, "rho", p.rho, 1e-6, 1e9);
+  check_range(e, "nu", p.nu, 0.0, 0.49);
+  check_range(e, "q_y", p.q_y, 1e-9, 1e15);
+  check_range(e, "h0", p.h0, 1e-9, 1e9);
+  check_range(e, "n_cols", p.n_cols, 1, 200);
+  check_range(e, "n_rows", p.n_rows, 1, 400);
+  check_range(e, "cells_per_unit", p.cells_per_unit, 2, 200);
+  check_range(e, "particles_per_cell", p.particles_per_cell, 1, 4);
+  check_range(e, "cfl", p.cfl, 0.0, 2.0, true);
+  check_range(e, "flip_ratio", p.flip_ratio, 0.0, 1.0);
+  check_range(e, "perturbation", p.perturbation, 0.0, 0.5);
+  check_range(e, "d_eps", p.d_eps, 1e-8, 0.1);
+  check_range(e, "threads", p.threads, 1, 256);
+  if (p.eps_end > 0.0 || !std::isfinite(p.eps_end)) {
+    // eps_end <= 0 means "until fully dense"; a strain beyond 1 - phi would crush solid matter.
+    check_range(e, "eps_end", p.eps_end, 0.0, 0.95, true);
+  }
+  if (p.snapshot_eps.size() > 100) {
+    e.push_back({"snapshot_eps", "at most 100 snapshots, got " + num(p.snapshot_eps.size())});
+  }
+  for (double s : p.snapshot_eps) check_range(e, "snapshot_eps", s, 0.0, 0.95);
+  if (e.empty() && p.eps_final() / p.d_eps > 1e5) {
+    e.push_back({"d_eps", "too small: " + num(p.eps_final() / p.d_eps) +
+                              " frames up to eps_end, at most 1e5"});
+  }
+  if (e.empty()) {
+    // Thin features must still be resolved: the hole and the strut need a grid cell each.
+    const double dx = p.unit_cell() / p.cells_per_unit;
+    const double strut = p.unit_cell() - p.hole_side();
+    if (p.phi != 1.0 && (p.hole_side() < dx || strut < dx)) {
+      e.push_back({"cells_per_unit", "too coarse for phi = " + num(p.phi) + ": hole " +
+                                         num(p.hole_side() / dx) + " and strut " +
+                                         num(strut / dx) + " grid cells, need >= 1 each"});
+    }
+    const double nodes = static_cast<double>(p.cols() * p.cells_per_unit + 5) *
+                         (p.n_rows * p.cells_per_unit + 5);
+    if (nodes > 2e7) {
+      e.push_back({"cells_per_unit", "grid of " + num(nodes) + " nodes exceeds the limit of 2e7"});
+    }
+  }
+  return e;
+}
+
+const char* to_string(Geometry g) { return g == Geometry::pseudo1d ? "pseudo1d" : "full2d"; }
+const char* to_string(Transfer t) { return t == Transfer::apic ? "apic" : "pic_flip"; }
+const char* to_string(PlateContact c) {
+  return c == PlateContact::bonded ? "bonded" : "unilateral";
+}
+
+bool parse(const std::string& s, Geometry& out) {
+  if (s == "pseudo1d") return out = Geometry::pseudo1d, true;
+  if (s == "full2d") return out = Geometry::full2d, true;
+  return false;
+}
+bool parse(const std::string& s, Transfer& out) {
+  if (s == "apic") return out = Transfer::apic, true;
+  if (s == "pic_flip") return out = Transfer::pic_flip, true;
+  return false;
+}
+bool parse(const std::string& s, PlateContact& out) {
+  if (s == "bonded") return out = PlateContact::bonded, true;
+  if (s == "unilateral") return out = PlateContact::unilateral, true;
+  return false;
+}
+
+}  // namespace compaction

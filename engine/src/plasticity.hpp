@@ -1,0 +1,74 @@
+// Constitutive update of one particle: Saint Venant-Kirchhoff elasticity in Hencky strain with
+// von Mises perfect plasticity (Blatny et al. 2022, Eqs. 1-2), return mapping in closed form.
+//
+// Convention (the paper's): yield when sqrt(3/2 s:s) > q_y, s = tau - (1/d) tr(tau) I, d = 2.
+// In 2D with principal Hencky strains e1 >= e2 and d_e = e1 - e2:
+//   tau_i = lambda (e1 + e2) + 2 mu e_i,  s = +-mu d_e,  s:s = 2 mu^2 d_e^2,
+//   q = sqrt(3/2 s:s) = sqrt(3) mu d_e,
+// so yield happens at d_e = q_y / (sqrt(3) mu). The radial return keeps e1 + e2 = log J and
+// scales d_e back to the yield surface; this is exact for perfect plasticity in Hencky strain
+// (the flow direction is fixed in principal space). The plastic strain increment is the
+// deviatoric cut (+-(d_e - d_y)/2 on the principal axes), of magnitude (d_e - d_y) / sqrt(2).
+//
+// No eigen solver: with b = Fe Fe^T = [[a, c], [c, e]] and r = sqrt(((a - e)/2)^2 + c^2),
+//   eigenvalues l1,2 = (a + e)/2 +- r, l1 l2 = J^2, and the projector difference
+//   n1 n1^T - n2 n2^T = N = [[(a - e)/2, c], [c, -(a - e)/2]] / r,
+// so tau = (lambda + mu) log J I + mu d_e N and the elastic correction is
+//   Fe <- (cosh(k) I - sinh(k) N) Fe  with k = (d_e - d_y) / 2.
+#pragma once
+
+#include <cmath>
+
+namespace compaction {
+
+struct Material {
+  double lambda;   // first Lame parameter                     [N/m]
+  double mu;       // shear modulus                             [N/m]
+  double d_yield;  // principal strain difference at yield, q_y / (sqrt(3) mu) [-]
+};
+
+struct Mat2 {
+  double xx, xy, yx, yy;
+};
+struct Sym2 {
+  double xx, xy, yy;
+};
+
+// Updates the elastic deformation gradient fe in place (return mapping), writes the Kirchhoff
+// stress and returns the plastic Hencky strain increment magnitude (0 when elastic). Returns
+// NaN when J = det(fe) <= 0 (the caller flags the run unstable).
+inline double return_map(Mat2& fe, const Material& m, Sym2& tau) {
+  const double J = fe.xx * fe.yy - fe.xy * fe.yx;
+  if (!(J > 0.0)) return std::nan("");
+  const double a = fe.xx * fe.xx + fe.xy * fe.xy;  // b = Fe Fe^T
+  const double c = fe.xx * fe.yx + fe.xy * fe.yy;
+  const double e = fe.yx * fe.yx + fe.yy * fe.yy;
+  const double h = 0.5 * (a - e);
+  const double r = std::sqrt(h * h + c * c);
+  const double l1 = 0.5 * (a + e) + r;
+  const double l2 = J * J / l1;                   // accurate even when l1 ~ l2
+  double d_e = 0.5 * std::log1p(2.0 * r / l2);    // e1 - e2 = log(sqrt(l1 / l2))
+  const double inv_r = r > 0.0 ? 1.0 / r : 0.0;   // N = 0 for an isotropic state (d_e = 0)
+  const Sym2 n{h * inv_r, c * inv_r, -h * inv_r};
+
+  double plastic = 0.0;
+  if (d_e > m.d_yield) {
+    const double k = 0.5 * (d_e - m.d_yield);
+    const double ep = std::exp(k), em = 1.0 / ep;
+    const double ch = 0.5 * (ep + em), sh = 0.5 * (ep - em);
+    const Mat2 f = fe;  // Fe <- (ch I - sh N) Fe
+    fe.xx = (ch - sh * n.xx) * f.xx - sh * n.xy * f.yx;
+    fe.xy = (ch - sh * n.xx) * f.xy - sh * n.xy * f.yy;
+    fe.yx = -sh * n.xy * f.xx + (ch - sh * n.yy) * f.yx;
+    fe.yy = -sh * n.xy * f.xy + (ch - sh * n.yy) * f.yy;
+    plastic = (d_e - m.d_yield) * 0.70710678118654752440;  // / sqrt(2)
+    d_e = m.d_yield;
+  }
+  const double p = (m.lambda + m.mu) * std::log(J);
+  tau.xx = p + m.mu * d_e * n.xx;
+  tau.xy = m.mu * d_e * n.xy;
+  tau.yy = p + m.mu * d_e * n.yy;
+  return plastic;
+}
+
+}  // namespace compaction

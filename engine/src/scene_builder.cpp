@@ -1,0 +1,133 @@
+#include "scene_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace compaction {
+
+namespace {
+
+// splitmix64: a tiny, portable generator, so that a seed means the same numbers everywhere.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+};
+
+void build_grid(const SceneParams& p, Grid& g) {
+  g.dx = p.unit_cell() / p.cells_per_unit;
+  g.inv_dx = 1.0 / g.dx;
+  g.periodic_x = p.geometry == Geometry::pseudo1d;
+  const int cells_x = p.cols() * p.cells_per_unit, cells_y = p.n_rows * p.cells_per_unit;
+  // Ghost nodes: a particle at distance >= 0 from an edge reaches one node beyond it, and the
+  // stability checks stop a run before any particle gets further than 1.4 cells out.
+  g.gy = 2;
+  g.ny = cells_y + g.gy + 4;
+  if (g.periodic_x) {
+    g.gx = 0;
+    g.nx = cells_x;
+  } else {
+    g.gx = 2;
+    g.nx = cells_x + 2 * g.gx + 1;
+  }
+  // Stencil columns base + k, base in [-1, nx - 1] (periodic) or [0, nx - 3]: wrapped once here
+  // so that the transfer loops never compute a modulo.
+  g.col.resize(g.nx + 3);
+  for (int k = 0; k < g.nx + 3; ++k) {
+    g.col[k] = g.periodic_x ? ((k - 1) % g.nx + g.nx) % g.nx : std::min(k - 1, g.nx - 1);
+  }
+  const std::size_t nodes = static_cast<std::size_t>(g.nx) * g.ny;
+  g.arrays.nodes.assign(nodes, Node{0, 0, 0, 0});
+  if (p.transfer == Transfer::pic_flip) {
+    g.arrays.mx.assign(nodes, 0.0);
+    g.arrays.my.assign(nodes, 0.0);
+  }
+  g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
+}
+
+}  // namespace
+
+State build_scene(const SceneParams& p) {
+  State s;
+  build_grid(p, s.grid);
+  const Grid& g = s.grid;
+
+  Setup& su = s.setup;
+  su.material.lambda = p.lame_lambda();
+  su.material.mu = p.lame_mu();
+  su.material.d_yield = p.q_y / (std::sqrt(3.0) * su.material.mu);
+  su.V = p.plate_speed();
+  su.h0 = p.h0;
+  su.width = p.width();
+  su.c_p = p.p_wave_speed();
+  su.transfer = p.transfer;
+  su.flip_ratio = p.flip_ratio;
+  su.contact = p.contact;
+  su.side_walls = p.geometry == Geometry::full2d;
+
+  const double L = p.unit_cell(), hole = p.hole_side(), half = 0.5 * hole;
+  const double spacing = g.dx / p.particles_per_cell;
+  const int strut_cols = p.geometry == Geometry::pseudo1d ? 1 : p.cols() + 1;
+  su.n_struts = strut_cols * p.n_rows;
+  su.strut_thickness = L - hole;
+
+  Particles& P = s.particles;
+  P.vol0 = spacing * spacing;
+  P.mass = p.rho * P.vol0;
+  SplitMix64 rng{p.seed};
+  const int npx = p.cols() * p.cells_per_unit * p.particles_per_cell;
+  const int npy = p.n_rows * p.cells_per_unit * p.particles_per_cell;
+  for (int j = 0; j < npy; ++j) {
+    for (int i = 0; i < npx; ++i) {
+      const double x = (i + 0.5) * spacing, y = (j + 0.5) * spacing;
+      const int cx = static_cast<int>(x / L), cy = static_cast<int>(y / L);
+      const double ux = x - (cx + 0.5) * L, uy = y - (cy + 0.5) * L;  // from the cell centre
+      if (std::abs(ux) < half && std::abs(uy) < half) continue;       // in the hole
+      double px = x, py = y;
+      if (p.perturbation > 0.0) {
+        px += (2.0 * rng.uniform() - 1.0) * p.perturbation * spacing;
+        py += (2.0 * rng.uniform() - 1.0) * p.perturbation * spacing;
+        if (g.periodic_x) px = px >= su.width ? px - su.width : (px < 0.0 ? px + su.width : px);
+      }
+      P.x.push_back(px);
+      P.y.push_back(py);
+      P.x0.push_back(px);
+      // A vertical strut spans the height of the holes of its row, between two holes.
+      if (std::abs(uy) < half) {
+        int edge = static_cast<int>(std::lround(x / L));  // the cell edge it surrounds
+        if (p.geometry == Geometry::pseudo1d) edge = 0;   // both edges are one strut
+        P.strut.push_back(cy * strut_cols + edge);
+        P.strut_mid.push_back(std::abs(uy) < 0.5 * half ? 1 : 0);
+      } else {
+        P.strut.push_back(-1);
+        P.strut_mid.push_back(0);
+      }
+    }
+  }
+  P.n = P.x.size();
+  P.vx.assign(P.n, 0.0);
+  P.vy.assign(P.n, 0.0);
+  P.C.assign(P.n, Mat2{0, 0, 0, 0});
+  P.Fe.assign(P.n, Mat2{1, 0, 0, 1});
+  P.tau.assign(P.n, Sym2{0, 0, 0});
+  P.dep.assign(P.n, 0.0);
+  P.ep.assign(P.n, 0.0);
+  su.scale = P.vol0 * 4.0 * g.inv_dx * g.inv_dx;  // V0 D^-1 of the MLS force
+
+  s.partial_measures.resize(static_cast<std::size_t>(p.threads));
+  StepMeasure& m = s.measure;
+  m.y_min = m.x_min = 1e300;
+  m.y_max = m.x_max = -1e300;
+  for (std::size_t k = 0; k < P.n; ++k) {
+    m.y_min = std::min(m.y_min, P.y[k]), m.y_max = std::max(m.y_max, P.y[k]);
+    m.x_min = std::min(m.x_min, P.x[k]), m.x_max = std::max(m.x_max, P.x[k]);
+  }
+  return s;
+}
+
+}  // namespace compaction

@@ -1,0 +1,116 @@
+// The run loop: build the scene, step until the imposed strain reaches eps_end (frames fall on
+// exact multiples of d_eps), record each frame, check stability, report progress.
+#include "compaction/simulation.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "diagnostics.hpp"
+#include "scene_builder.hpp"
+#include "stability.hpp"
+#include "stages.hpp"
+#include "step.hpp"
+
+namespace compaction {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+RunResult run_scene(const SceneParams& p, const RunControl& control) {
+  if (const auto errors = validate(p); !errors.empty()) {
+    throw std::invalid_argument(errors[0].field + ": " + errors[0].message);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  State s = build_scene(p);
+  ThreadPool pool(p.threads);
+  FrameRecorder recorder(p, s);
+
+  RunResult r;
+  r.n_particles = static_cast<std::int64_t>(s.particles.n);
+  r.grid_nx = s.grid.nx;
+  r.grid_ny = s.grid.ny;
+  r.dx = s.grid.dx;
+  r.phi_discrete = s.particles.n * s.particles.vol0 / (p.width() * p.h0);
+  r.spacetime.n_rows = p.n_rows * p.cells_per_unit;
+  r.spacetime.row_height = s.grid.dx;
+
+  const double V = s.setup.V, h0 = p.h0;
+  const double eps_end = p.eps_final();
+  const double t_end = eps_end * h0 / V;
+  // Generous bound on the step count: a healthy run needs t_end / dt_cfl steps; one whose
+  // time step collapses is stopped instead of running forever.
+  const double dt_cfl = p.cfl * s.grid.dx / (s.setup.c_p + V);
+  const double max_steps = 20.0 * t_end / dt_cfl + 1000.0;
+
+  auto stop = [&](RunStatus status, std::string reason) {
+    r.status = status;
+    r.reason = std::move(reason);
+    r.failed_step = status == RunStatus::unstable ? s.clock.step : -1;
+  };
+
+  const auto t_loop = std::chrono::steady_clock::now();
+  int frame = 0;
+  double eps_frame_begin = 0.0;
+  while (true) {
+    const double eps_frame_end = std::min(eps_end, (frame + 1) * p.d_eps);
+    const double t_frame_end = std::min(t_end, eps_frame_end * h0 / V);
+    double dt = stable_dt(s, p.cfl);
+    const bool closes_frame = s.clock.t + dt >= t_frame_end;
+    if (closes_frame) dt = t_frame_end - s.clock.t;
+
+    advance_step(s, dt, pool, r.stage_seconds);
+    if (closes_frame) s.clock.t = t_frame_end;  // frames fall on exact strains
+
+    if (std::string why = check_step(s); !why.empty()) {
+      stop(RunStatus::unstable, why);
+      break;
+    }
+    if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
+      stop(RunStatus::cancelled, "cancelled on request");
+      break;
+    }
+    if (s.clock.step > max_steps) {
+      stop(RunStatus::unstable, "time step collapsed: step limit reached");
+      break;
+    }
+    if (!closes_frame) continue;
+
+    const auto td = std::chrono::steady_clock::now();
+    recorder.record(s, eps_frame_begin, eps_frame_end, r);
+    r.stage_seconds.diagnostics += seconds_since(td);
+    r.eps_reached = eps_frame_end;
+    if (std::string why = check_frame(s, r.frames.back()); !why.empty()) {
+      const Frame& f = r.frames.back();
+      if (!std::isfinite(f.sigma_top + f.sigma_bottom + f.kinetic_energy)) {
+        // Never store a non-finite number: the last finite frame is the last one kept.
+        r.frames.pop_back();
+        r.spacetime.values.resize(r.spacetime.values.size() - r.spacetime.n_rows);
+        --r.spacetime.n_frames;
+        r.eps_reached = eps_frame_begin;
+      }
+      stop(RunStatus::unstable, why);
+      break;
+    }
+    if (control.on_progress) {
+      control.on_progress({eps_frame_end, eps_end, s.clock.step, seconds_since(t0)});
+    }
+    eps_frame_begin = eps_frame_end;
+    ++frame;
+    if (eps_frame_end >= eps_end) break;
+  }
+
+  r.steps = s.clock.step;
+  r.dt_mean = r.steps ? s.clock.t / r.steps : 0.0;
+  r.wall_seconds = seconds_since(t0);
+  const double loop_seconds = seconds_since(t_loop);
+  r.ns_per_particle_step =
+      r.steps && s.particles.n ? 1e9 * loop_seconds / (static_cast<double>(r.steps) * s.particles.n)
+                               : 0.0;
+  return r;
+}
+
+}  // namespace compaction

@@ -1,0 +1,96 @@
+// The simulation state: particles (structure of arrays), the background grid and the constants
+// of the scene. Plain data; the stages of a time step (p2g.cpp, grid_update.cpp, g2p.cpp, ...)
+// operate on it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "compaction/params.hpp"
+#include "plasticity.hpp"
+
+namespace compaction {
+
+// Every particle carries the same mass and initial volume (a regular lattice of a uniform
+// solid), so those are scalars of the set, not arrays.
+struct Particles {
+  std::size_t n = 0;
+  double mass = 0.0;  // [kg/m] (per unit depth)
+  double vol0 = 0.0;  // initial area                                        [m^2]
+  std::vector<double> x, y;     // position                                  [m]
+  std::vector<double> vx, vy;   // velocity                                  [m/s]
+  std::vector<Mat2> C;          // APIC affine velocity = velocity gradient  [1/s]
+  std::vector<Mat2> Fe;         // elastic deformation gradient (double: strain steps ~1e-7)
+  std::vector<Sym2> tau;        // Kirchhoff stress                          [N/m]
+  std::vector<double> dep;      // plastic strain accumulated in the current frame
+  std::vector<double> ep;       // plastic strain accumulated since the start
+  std::vector<double> x0;       // initial position x, for strut deflections [m]
+  std::vector<std::int32_t> strut;  // vertical strut id, -1 when not in a strut
+  std::vector<std::uint8_t> strut_mid;  // 1: middle half of the strut, 0: its ends
+};
+
+// Grid node: mass and momentum (after the grid update: velocity in vx, vy).
+struct Node {
+  double m, vx, vy, pad_;
+};
+
+// Node arrays that P2G scatters into: one set for the grid, one more per extra thread.
+struct NodeArrays {
+  std::vector<Node> nodes;          // nodes[j * nx + i]
+  std::vector<double> mx, my;       // pic_flip only: momentum before forces (for v_old)
+};
+
+struct Grid {
+  int nx = 0, ny = 0;   // nodes
+  int gx = 0, gy = 0;   // ghost offset: node (i, j) sits at ((i - gx) dx, (j - gy) dx)
+  double dx = 0.0, inv_dx = 0.0;
+  bool periodic_x = false;
+  std::vector<int> col;     // col[base + 1 + k]: node column of stencil column base + k
+  NodeArrays arrays;                  // after the grid update: velocities, in place
+  std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
+  int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
+};
+
+// Constants of the scene that the stages need.
+struct Setup {
+  Material material;
+  double V = 0.0;       // plate speed                                   [m/s]
+  double h0 = 0.0;      // initial height                                [m]
+  double width = 0.0;   // specimen width                                [m]
+  double c_p = 0.0;     // P-wave speed                                  [m/s]
+  double scale = 0.0;   // MLS force factor: vol0 * D^-1 = 4 vol0 / dx^2
+  Transfer transfer = Transfer::apic;
+  double flip_ratio = 0.0;
+  PlateContact contact = PlateContact::bonded;
+  bool side_walls = false;
+  int n_struts = 0;
+  double strut_thickness = 0.0;  // [m]
+};
+
+// What one step measured, reduced over particles, for stability and dt.
+struct StepMeasure {
+  double max_v2 = 0.0;      // largest squared particle speed (NaN if any is NaN)
+  double y_min = 0.0, y_max = 0.0, x_min = 0.0, x_max = 0.0;
+  bool bad_jacobian = false; // some particle had J <= 0 or a non-finite state
+};
+
+// Time, plate position and impulses.
+struct Clock {
+  double t = 0.0;
+  std::int64_t step = 0;
+  double top_impulse = 0.0;     // y-impulse of the top plate on the material, this frame
+  double bottom_impulse = 0.0;  // y-impulse of the bottom plate on the material, this frame
+  double plate_work = 0.0;      // work of the plates on the material since t = 0
+  double top_y(const Setup& s) const { return s.h0 - s.V * t; }
+};
+
+struct State {
+  Setup setup;
+  Particles particles;
+  Grid grid;
+  Clock clock;
+  StepMeasure measure;
+  std::vector<StepMeasure> partial_measures;  // one per thread, reduced into measure
+};
+
+}  // namespace compaction

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the Debian packages compaction-sweep builds and runs with (idempotent; needs root or sudo).
+set -euo pipefail
+packages=(
+  cmake ninja-build g++ git pkg-config
+  libeigen3-dev libsqlite3-dev sqlite3 nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev
+  libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
+  python3 curl
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  echo "installing: ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

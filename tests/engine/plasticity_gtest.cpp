@@ -1,0 +1,129 @@
+// The constitutive update against closed-form answers: uniaxial strain through yield (Hencky +
+// J2, the paper's sqrt(3/2 s:s) convention with the 2D deviator), frame indifference.
+#include "plasticity.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace compaction {
+namespace {
+
+constexpr double kE = 2.5e7, kNu = 0.3, kQy = 250.0;  // R = 1e-5, as the paper's example (a)
+
+Material material() {
+  const double lambda = kE * kNu / ((1 + kNu) * (1 - 2 * kNu)), mu = kE / (2 * (1 + kNu));
+  return {lambda, mu, kQy / (std::sqrt(3.0) * mu)};
+}
+
+double von_mises(const Sym2& t) {  // sqrt(3/2 s:s), s the 2D deviator
+  const double mean = 0.5 * (t.xx + t.yy);
+  const double sxx = t.xx - mean, syy = t.yy - mean;
+  return std::sqrt(1.5 * (sxx * sxx + syy * syy + 2 * t.xy * t.xy));
+}
+
+Mat2 mul(const Mat2& a, const Mat2& b) {
+  return {a.xx * b.xx + a.xy * b.yx, a.xx * b.xy + a.xy * b.yy, a.yx * b.xx + a.yy * b.yx,
+          a.yx * b.xy + a.yy * b.yy};
+}
+
+// Uniaxial strain F = diag(1, 1 - e), applied in many increments as the engine does. Closed form:
+// log J = log(1 - e), d = e1 - e2 = min(-log J, d_y), tau_xx = (lambda + mu) log J + mu d,
+// tau_yy = (lambda + mu) log J - mu d, accumulated plastic strain (-log J - d_y) / sqrt(2).
+// Tolerance 1e-10 of |tau|: the update is exact, so only round-off over 1e5 steps remains.
+TEST(PlasticityGtest, UniaxialStrainStressPathMatchesClosedFormThroughYield) {
+  const Material m = material();
+  Mat2 fe{1, 0, 0, 1};
+  Sym2 tau{};
+  double plastic = 0.0;
+  const int steps = 100000;
+  const double e_max = 0.3;
+  bool yielded = false;
+  for (int n = 1; n <= steps; ++n) {
+    const double e_old = e_max * (n - 1) / steps, e_new = e_max * n / steps;
+    fe = mul(Mat2{1, 0, 0, (1 - e_new) / (1 - e_old)}, fe);
+    plastic += return_map(fe, m, tau);
+    if (n % 997 != 0 && n != steps) continue;
+    const double log_j = std::log(1 - e_new);
+    const double d = std::min(-log_j, m.d_yield);
+    yielded |= -log_j > m.d_yield;
+    const double xx = (m.lambda + m.mu) * log_j + m.mu * d;
+    const double yy = (m.lambda + m.mu) * log_j - m.mu * d;
+    const double scale = std::abs(yy);
+    ASSERT_NEAR(tau.xx, xx, 1e-10 * scale) << "e = " << e_new;
+    ASSERT_NEAR(tau.yy, yy, 1e-10 * scale) << "e = " << e_new;
+    ASSERT_NEAR(tau.xy, 0.0, 1e-10 * scale);
+    ASSERT_NEAR(plastic, std::max(0.0, -log_j - m.d_yield) / std::sqrt(2.0), 1e-10);
+  }
+  EXPECT_TRUE(yielded);
+  EXPECT_NEAR(von_mises(tau), kQy, 1e-10 * kQy);  // on the yield surface, q = q_y exactly
+}
+
+// The paper's convention: yield when sqrt(3/2 s:s) reaches q_y, with s = tau - tr(tau)/2 I.
+// Matter's default prefactor sqrt(1/2) would put the onset at a strain sqrt(3) larger.
+TEST(PlasticityGtest, YieldStartsWhereThreeHalvesDeviatorNormReachesQy) {
+  const Material m = material();
+  // Pure shear in principal axes: e1 = -e2 = g/2, so d = g, q = sqrt(3) mu g.
+  const double g_yield = kQy / (std::sqrt(3.0) * m.mu);
+  for (double f : {0.999, 1.001}) {
+    const double g = f * g_yield;
+    Mat2 fe{std::exp(g / 2), 0, 0, std::exp(-g / 2)};
+    Sym2 tau{};
+    const double plastic = return_map(fe, m, tau);
+    if (f < 1) {
+      EXPECT_EQ(plastic, 0.0);
+      EXPECT_NEAR(von_mises(tau), f * kQy, 1e-9 * kQy);
+    } else {
+      EXPECT_GT(plastic, 0.0);
+      EXPECT_NEAR(von_mises(tau), kQy, 1e-9 * kQy);
+    }
+  }
+}
+
+// A rigid rotation of a stressed, yielding state rotates the stress and the corrected Fe and
+// changes no invariant (trace, von Mises stress, J, plastic increment).
+TEST(PlasticityGtest, RigidRotationChangesNoInvariant) {
+  const Material m = material();
+  const Mat2 f0{1.00002, 0.00003, -0.00001, 0.99990};  // beyond yield: d ~ 1e-4 > d_y ~ 1.8e-5
+  for (double angle : {0.3, 1.2, 2.5, -0.7}) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    const Mat2 rot{c, -s, s, c};
+    Mat2 a = f0, b = mul(rot, f0);
+    Sym2 ta{}, tb{};
+    const double pa = return_map(a, m, ta), pb = return_map(b, m, tb);
+    EXPECT_GT(pa, 0.0);
+    EXPECT_NEAR(pa, pb, 1e-12);
+    EXPECT_NEAR(ta.xx + ta.yy, tb.xx + tb.yy, 1e-9 * kQy);
+    EXPECT_NEAR(von_mises(ta), von_mises(tb), 1e-9 * kQy);
+    EXPECT_NEAR(a.xx * a.yy - a.xy * a.yx, b.xx * b.yy - b.xy * b.yx, 1e-14);
+    const Mat2 ra = mul(rot, a);  // corrected Fe rotates with the frame
+    EXPECT_NEAR(ra.xx, b.xx, 1e-13);
+    EXPECT_NEAR(ra.xy, b.xy, 1e-13);
+    EXPECT_NEAR(ra.yx, b.yx, 1e-13);
+    EXPECT_NEAR(ra.yy, b.yy, 1e-13);
+    // tau_b = R tau_a R^T
+    const double rxx = c * c * ta.xx - 2 * c * s * ta.xy + s * s * ta.yy;
+    const double rxy = c * s * (ta.xx - ta.yy) + (c * c - s * s) * ta.xy;
+    EXPECT_NEAR(tb.xx, rxx, 1e-8 * kQy);
+    EXPECT_NEAR(tb.xy, rxy, 1e-8 * kQy);
+  }
+}
+
+TEST(PlasticityGtest, InvertedElementIsReportedAsNan) {
+  Mat2 fe{1, 0, 0, -0.5};
+  Sym2 tau{};
+  EXPECT_TRUE(std::isnan(return_map(fe, material(), tau)));
+}
+
+TEST(PlasticityGtest, IsotropicStateHasNoDeviator) {
+  const Material m = material();
+  Mat2 fe{0.99, 0, 0, 0.99};
+  Sym2 tau{};
+  EXPECT_EQ(return_map(fe, m, tau), 0.0);
+  EXPECT_DOUBLE_EQ(tau.xx, tau.yy);
+  EXPECT_NEAR(tau.xx, (m.lambda + m.mu) * 2 * std::log(0.99), 1e-9 * std::abs(tau.xx));
+  EXPECT_EQ(tau.xy, 0.0);
+}
+
+}  // namespace
+}  // namespace compaction
