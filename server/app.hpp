@@ -1,0 +1,37 @@
+// What the HTTP routes share: the store, the options, request counters.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include <httplib.h>
+
+#include "job_store.hpp"
+#include "options.hpp"
+#include "planner.hpp"
+
+namespace compaction::server {
+
+struct RequestCounters {
+  std::atomic<std::int64_t> ok{0};            // 2xx
+  std::atomic<std::int64_t> client_error{0};  // 4xx
+  std::atomic<std::int64_t> server_error{0};  // 5xx
+};
+
+struct App {
+  JobStore& store;
+  ServerOptions options;
+  PlannerLimits limits;
+  RequestCounters requests;
+};
+
+// One registration function per resource (routes_*.cpp).
+void register_sweep_routes(httplib::Server& server, App& app);
+void register_job_routes(httplib::Server& server, App& app);
+void register_queue_routes(httplib::Server& server, App& app);
+void register_service_routes(httplib::Server& server, App& app);
+
+// Everything above plus error handling and logging: the whole API on one server.
+void register_all_routes(httplib::Server& server, App& app);
+
+}  // namespace compaction::server

@@ -1,0 +1,41 @@
+// Helpers shared by the route files: JSON answers, the error body, body parsing, tokens and
+// query parameters. Every handler runs inside guarded(), which turns ApiError into its status
+// and JSON body and anything else into a 500 with the reason logged.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "api_error.hpp"
+
+namespace compaction::server {
+
+void send_json(httplib::Response& res, int status, const nlohmann::json& body);
+void send_error(httplib::Response& res, const ApiError& e);
+
+using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
+Handler guarded(Handler h);
+
+// The request body as a JSON value; malformed JSON is a 400 naming no field ("body").
+nlohmann::json parse_json_body(const httplib::Request& req);
+
+// Requires "Authorization: Bearer <expected>" when expected is not empty: missing -> 401,
+// wrong -> 403 (field "Authorization").
+void require_token(const httplib::Request& req, const std::string& expected);
+
+// Path ids: positive integers (the route's regex guarantees digits; too large -> 404).
+std::int64_t path_id(const httplib::Request& req, int match_index, const char* what);
+
+// Query parameters: absent -> fallback/nullopt; malformed or out of range -> 422 naming it.
+int query_int(const httplib::Request& req, const char* name, int fallback, int lo, int hi);
+std::optional<std::int64_t> query_id(const httplib::Request& req, const char* name);
+std::optional<double> query_number(const httplib::Request& req, const char* name);
+
+// Required fields of a JSON object body (422 naming the field).
+std::string body_string(const nlohmann::json& body, const char* key, std::size_t max_len);
+
+}  // namespace compaction::server

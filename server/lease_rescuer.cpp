@@ -1,0 +1,33 @@
+#include "lease_rescuer.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "clock.hpp"
+
+namespace compaction::server {
+
+LeaseRescuer::LeaseRescuer(JobStore& store, std::chrono::milliseconds interval)
+    : store_(store), interval_(interval), thread_([this] { run(); }) {}
+
+LeaseRescuer::~LeaseRescuer() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void LeaseRescuer::run() {
+  std::unique_lock lock(mutex_);
+  while (!wake_.wait_for(lock, interval_, [this] { return stop_; })) {
+    try {
+      const int n = store_.requeue_expired(now_ms());
+      if (n > 0) spdlog::warn("lease rescuer: {} expired lease(s) returned to the queue", n);
+    } catch (const std::exception& e) {
+      spdlog::error("lease rescuer: {}", e.what());  // try again next interval
+    }
+  }
+}
+
+}  // namespace compaction::server

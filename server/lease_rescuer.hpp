@@ -1,0 +1,32 @@
+// The lease rescuer: a thread that, every interval, returns the jobs whose lease deadline passed
+// (the worker died or lost the network) to the queue via JobStore::requeue_expired.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+#include "job_store.hpp"
+
+namespace compaction::server {
+
+class LeaseRescuer {
+ public:
+  LeaseRescuer(JobStore& store, std::chrono::milliseconds interval);
+  ~LeaseRescuer();  // stops and joins the thread
+  LeaseRescuer(const LeaseRescuer&) = delete;
+  LeaseRescuer& operator=(const LeaseRescuer&) = delete;
+
+ private:
+  void run();
+
+  JobStore& store_;
+  std::chrono::milliseconds interval_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace compaction::server

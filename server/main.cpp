@@ -1,0 +1,97 @@
+// compaction-server: opens (and migrates) the database, starts the lease rescuer and serves the
+// REST API, the metrics and the dashboard until SIGINT or SIGTERM.
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "app.hpp"
+#include "compaction/result.hpp"
+#include "lease_rescuer.hpp"
+#include "options.hpp"
+
+using namespace compaction::server;
+
+int main(int argc, char** argv) {
+  int exit_code = 0;
+  const auto options = parse_server_options(argc, argv, exit_code);
+  if (!options) return exit_code;
+  spdlog::set_level(spdlog::level::from_str(options->log_level));
+  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ server: %v");
+
+  // Signals go to a dedicated thread (sigwait), never into the middle of a handler.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+
+  try {
+    const std::filesystem::path db_path(options->db);
+    if (db_path.has_parent_path()) std::filesystem::create_directories(db_path.parent_path());
+
+    StoreConfig config;
+    config.lease_ms = static_cast<Millis>(options->lease_seconds * 1000);
+    config.backoff_base_ms = static_cast<Millis>(options->retry_backoff_seconds * 1000);
+    config.engine_version = compaction::engine_version();
+    JobStore store(options->db, config);
+
+    App app{store, *options, {}, {}};
+    app.limits.max_points = static_cast<std::size_t>(options->max_sweep_points);
+
+    httplib::Server server;
+    const int threads = options->http_threads;
+    server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    server.set_payload_max_length(512ull << 20);  // result uploads carry the bundle's arrays
+    server.set_read_timeout(30, 0);
+    register_all_routes(server, app);
+
+    const int port = options->port == 0 ? server.bind_to_any_port(options->host)
+                                        : (server.bind_to_port(options->host, options->port)
+                                               ? options->port
+                                               : -1);
+    if (port < 0) {
+      spdlog::error("cannot listen on {}:{}", options->host, options->port);
+      return 1;
+    }
+    if (!options->port_file.empty()) {
+      const std::string tmp = options->port_file + ".tmp";
+      std::ofstream(tmp) << port << "\n";
+      std::filesystem::rename(tmp, options->port_file);
+    }
+
+    LeaseRescuer rescuer(store, std::chrono::milliseconds(
+                                    static_cast<long>(options->rescue_interval_seconds * 1000)));
+    std::atomic<bool> signalled{false};
+    std::thread signal_thread([&server, &signalled, signals] {
+      int sig = 0;
+      sigwait(&signals, &sig);
+      signalled = true;
+      spdlog::info("signal {}: stopping", sig);
+      server.stop();
+    });
+    spdlog::info("listening on http://{}:{} db={} engine={} ({}) lease={}s tokens: submit={} worker={}",
+                 options->host, port, options->db, compaction::engine_version(),
+                 compaction::source_revision(), options->lease_seconds,
+                 options->submit_token.empty() ? "open" : "required",
+                 options->worker_token.empty() ? "open" : "required");
+    const bool ok = server.listen_after_bind();
+    if (!ok && server.is_running()) spdlog::error("the server stopped unexpectedly");
+    // The listener ended on its own: wake the signal thread (SIGTERM is blocked elsewhere).
+    if (!signalled) kill(getpid(), SIGTERM);
+    signal_thread.join();
+    spdlog::info("stopped");
+    return 0;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}

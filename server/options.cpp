@@ -1,0 +1,147 @@
+#include "options.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+
+namespace compaction::server {
+
+std::string server_usage() {
+  return R"(compaction-server: the sweep service (REST API over SQLite, job queue, dashboard).
+
+usage: compaction-server [options]
+
+  --db FILE                  SQLite database, created with its folder (default ./data/compaction.db)
+  --host ADDR                address to listen on (default 127.0.0.1)
+  --port N                   TCP port, 0 picks a free one (default 8080)
+  --port-file FILE           write the bound port to FILE once listening
+  --submit-token TOKEN       token to create and cancel sweeps (env COMPACTION_SUBMIT_TOKEN)
+  --worker-token TOKEN       token of the worker endpoints (env COMPACTION_WORKER_TOKEN)
+                             Both tokens are mandatory when --host is not a loopback address;
+                             reading endpoints stay open. Clients send "Authorization: Bearer TOKEN".
+  --web-dir DIR              static files of the dashboard (default: the source tree's web/)
+  --lease-seconds S          lease length, renewed by each heartbeat (default 60)
+  --rescue-interval S        how often expired leases are requeued (default 5)
+  --retry-backoff S          delay before the first retry, doubling per attempt (default 5)
+  --max-sweep-points N       largest sweep accepted (default 2000)
+  --http-threads N           request handler threads (default 8)
+  --log-level LEVEL          trace, debug, info, warn, error (default info)
+  --help                     this text
+
+API: /api/v1 (OpenAPI at /api/v1/openapi.yaml), metrics at /metrics, dashboard at /.
+)";
+}
+
+bool is_loopback_host(const std::string& host) {
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+namespace {
+
+bool parse_number(const std::string& s, double& out) {
+  char* end = nullptr;
+  out = std::strtod(s.c_str(), &end);
+  return !s.empty() && end == s.c_str() + s.size() && std::isfinite(out);
+}
+
+bool parse_int(const std::string& s, int& out) {
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || end != s.c_str() + s.size() || v < -2147483647L || v > 2147483647L) {
+    return false;
+  }
+  out = static_cast<int>(v);
+  return true;
+}
+
+}  // namespace
+
+std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& exit_code) {
+  ServerOptions o;
+#ifdef COMPACTION_SOURCE_DIR
+  o.web_dir = std::string(COMPACTION_SOURCE_DIR) + "/web";
+#endif
+  if (const char* t = std::getenv("COMPACTION_SUBMIT_TOKEN")) o.submit_token = t;
+  if (const char* t = std::getenv("COMPACTION_WORKER_TOKEN")) o.worker_token = t;
+
+  auto error = [&](const std::string& flag, const std::string& message) {
+    std::cerr << "compaction-server: " << flag << ": " << message << "\n";
+    exit_code = 2;
+    return std::nullopt;
+  };
+  auto range = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--help" || flag == "-h") {
+      std::cout << server_usage();
+      exit_code = 0;
+      return std::nullopt;
+    }
+    static const std::map<std::string, int> with_value = {
+        {"--db", 1}, {"--host", 1}, {"--port", 1}, {"--port-file", 1}, {"--submit-token", 1},
+        {"--worker-token", 1}, {"--web-dir", 1}, {"--lease-seconds", 1},
+        {"--rescue-interval", 1}, {"--retry-backoff", 1}, {"--max-sweep-points", 1},
+        {"--http-threads", 1}, {"--log-level", 1}};
+    if (!with_value.count(flag)) return error(flag, "unknown option (see --help)");
+    if (i + 1 >= argc) return error(flag, "needs a value");
+    const std::string v = argv[++i];
+    double d = 0;
+    int n = 0;
+    if (flag == "--db") {
+      if (v.empty()) return error(flag, "must not be empty");
+      o.db = v;
+    } else if (flag == "--host") {
+      if (v.empty()) return error(flag, "must not be empty");
+      o.host = v;
+    } else if (flag == "--port") {
+      if (!parse_int(v, n) || !range(n, 0, 65535)) return error(flag, "must be in [0, 65535]");
+      o.port = n;
+    } else if (flag == "--port-file") {
+      o.port_file = v;
+    } else if (flag == "--submit-token") {
+      o.submit_token = v;
+    } else if (flag == "--worker-token") {
+      o.worker_token = v;
+    } else if (flag == "--web-dir") {
+      o.web_dir = v;
+    } else if (flag == "--lease-seconds") {
+      if (!parse_number(v, d) || !range(d, 0.5, 86400)) {
+        return error(flag, "must be a number of seconds in [0.5, 86400]");
+      }
+      o.lease_seconds = d;
+    } else if (flag == "--rescue-interval") {
+      if (!parse_number(v, d) || !range(d, 0.05, 3600)) {
+        return error(flag, "must be a number of seconds in [0.05, 3600]");
+      }
+      o.rescue_interval_seconds = d;
+    } else if (flag == "--retry-backoff") {
+      if (!parse_number(v, d) || !range(d, 0, 3600)) {
+        return error(flag, "must be a number of seconds in [0, 3600]");
+      }
+      o.retry_backoff_seconds = d;
+    } else if (flag == "--max-sweep-points") {
+      if (!parse_int(v, n) || !range(n, 1, 1000000)) {
+        return error(flag, "must be an integer in [1, 1000000]");
+      }
+      o.max_sweep_points = n;
+    } else if (flag == "--http-threads") {
+      if (!parse_int(v, n) || !range(n, 1, 256)) return error(flag, "must be in [1, 256]");
+      o.http_threads = n;
+    } else if (flag == "--log-level") {
+      if (v != "trace" && v != "debug" && v != "info" && v != "warn" && v != "error") {
+        return error(flag, "must be trace, debug, info, warn or error");
+      }
+      o.log_level = v;
+    }
+  }
+  if (!is_loopback_host(o.host) && (o.submit_token.empty() || o.worker_token.empty())) {
+    return error("--host", "listening on " + o.host +
+                               " (beyond loopback) needs --submit-token and --worker-token");
+  }
+  exit_code = 0;
+  return o;
+}
+
+}  // namespace compaction::server

@@ -1,0 +1,35 @@
+// Command-line options of compaction-server (and their environment fallbacks).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace compaction::server {
+
+struct ServerOptions {
+  std::string db = "./data/compaction.db";  // SQLite file, created with its folder
+  std::string host = "127.0.0.1";
+  int port = 8080;                          // 0: any free port (see --port-file)
+  std::string port_file;                    // write the bound port here once listening
+  std::string submit_token;                 // required to create or cancel sweeps ("" = open)
+  std::string worker_token;                 // required by the worker endpoints ("" = open)
+  std::string web_dir;                      // static files of the dashboard
+  double lease_seconds = 60;                // a lease lasts this long after each heartbeat
+  double rescue_interval_seconds = 5;       // how often expired leases are requeued
+  double retry_backoff_seconds = 5;         // first retry delay, doubling per attempt
+  int max_sweep_points = 2000;              // scenes per sweep
+  int http_threads = 8;                     // request handler threads
+  std::string log_level = "info";
+};
+
+// Parses argv (environment: COMPACTION_SUBMIT_TOKEN, COMPACTION_WORKER_TOKEN).
+// Returns the options, or nullopt after printing --help (exit 0) or an error naming the flag
+// (exit 2); `exit_code` says which.
+std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& exit_code);
+
+std::string server_usage();
+
+bool is_loopback_host(const std::string& host);
+
+}  // namespace compaction::server

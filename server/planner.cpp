@@ -1,0 +1,284 @@
+#include "planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+
+#include "api_error.hpp"
+#include "compaction/params_json.hpp"
+#include "presets.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+namespace {
+
+// Numerics keys a sweep may set (the rest of SceneParams is fixed by the model or per point).
+const std::set<std::string> numerics_keys = {
+    "preset", "cells_per_unit", "particles_per_cell", "cfl", "transfer", "flip_ratio",
+    "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed"};
+
+const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",
+                                            "priority", "max_attempts"};
+
+[[noreturn]] void invalid(const std::string& field, const std::string& message,
+                          int status = 422) {
+  throw ApiError(status, field, message);
+}
+
+bool finite_number(const json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+int integer_in(const json& body, const char* key, int fallback, int lo, int hi) {
+  if (!body.contains(key)) return fallback;
+  const json& v = body[key];
+  if (!v.is_number_integer()) invalid(key, std::string("must be an integer, got ") + v.dump());
+  const auto i = v.get<long long>();
+  if (i < lo || i > hi) {
+    invalid(key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                     std::to_string(i));
+  }
+  return static_cast<int>(i);
+}
+
+// The scene every point starts from: preset, then the explicit numerics over it.
+SceneParams base_scene(const json& body, std::string& preset_name) {
+  json numerics = json::object();
+  if (body.contains("numerics")) {
+    numerics = body["numerics"];
+    if (!numerics.is_object()) invalid("numerics", "must be an object, got " + numerics.dump());
+  }
+  for (const auto& [key, value] : numerics.items()) {
+    if (!numerics_keys.count(key)) invalid("numerics." + key, "unknown numerics key");
+  }
+  preset_name = std::string(default_preset_name);
+  if (numerics.contains("preset")) {
+    const json& p = numerics["preset"];
+    if (!p.is_string() || !find_preset(p.get<std::string>())) {
+      std::string names;
+      for (const auto& pr : presets()) names += (names.empty() ? "" : ", ") + pr.name;
+      invalid("numerics.preset", "must be one of " + names + ", got " + p.dump());
+    }
+    preset_name = p.get<std::string>();
+    numerics.erase("preset");
+  }
+  SceneParams scene;
+  // The preset's values first: they are valid on their own and only the explicit keys may fail.
+  json merged = preset_scene_json(*find_preset(preset_name));
+  for (const auto& [key, value] : numerics.items()) merged[key] = value;
+  merged["threads"] = 1;
+  // Here only the types: from_json reports type errors, or else validate()'s range errors,
+  // and ranges (some depend on phi) are checked per point with the point's S, R and phi.
+  std::vector<FieldError> errors = from_json(merged, scene);
+  const std::vector<FieldError> ranges = validate(scene);
+  const bool only_ranges = std::all_of(errors.begin(), errors.end(), [&](const FieldError& e) {
+    return std::any_of(ranges.begin(), ranges.end(), [&](const FieldError& r) {
+      return r.field == e.field && r.message == e.message;
+    });
+  });
+  if (!only_ranges) {
+    std::vector<FieldError> named;
+    for (auto& e : errors) named.push_back({"numerics." + e.field, e.message});
+    throw ApiError(422, std::move(named));
+  }
+  return scene;
+}
+
+// Applies S, R, phi to the base scene and validates the whole; errors are prefixed by `where`
+// for S, R and phi ("points[3].phi", or the axis name) and by "numerics." for the rest.
+SceneParams make_scene(const SceneParams& base, double S, double R, double phi,
+                       const std::string& where) {
+  SceneParams p = base;
+  json point = {{"S", S}, {"R", R}, {"phi", phi}};
+  std::vector<FieldError> errors = from_json(point, p);
+  if (!errors.empty()) {
+    std::vector<FieldError> named;
+    for (auto& e : errors) {
+      const bool axis = e.field == "S" || e.field == "R" || e.field == "phi";
+      named.push_back({axis ? where + e.field : "numerics." + e.field, e.message});
+    }
+    throw ApiError(422, std::move(named));
+  }
+  return p;
+}
+
+double point_value(const json& point, const char* key, const std::string& where) {
+  if (!point.contains(key)) invalid(where + key, "is required");
+  const json& v = point[key];
+  if (!finite_number(v)) invalid(where + key, "must be a finite number, got " + v.dump());
+  return v.get<double>();
+}
+
+}  // namespace
+
+double round_significant(double v) {
+  if (!std::isfinite(v) || v == 0.0) return v;
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return std::strtod(buf, nullptr);
+}
+
+std::vector<double> expand_axis(const json& axis, const std::string& field,
+                                std::size_t max_points) {
+  if (axis.is_number()) {
+    if (!finite_number(axis)) invalid(field, "must be a finite number");
+    return {axis.get<double>()};
+  }
+  if (axis.is_array()) {
+    if (axis.empty()) invalid(field, "must not be empty");
+    if (axis.size() > max_points) {
+      invalid(field, std::to_string(axis.size()) + " values exceed the sweep limit of " +
+                         std::to_string(max_points) + " points", 413);
+    }
+    std::vector<double> out;
+    for (std::size_t i = 0; i < axis.size(); ++i) {
+      if (!finite_number(axis[i])) {
+        invalid(field + "[" + std::to_string(i) + "]",
+                "must be a finite number, got " + axis[i].dump());
+      }
+      out.push_back(axis[i].get<double>());
+    }
+    return out;
+  }
+  if (!axis.is_object()) {
+    invalid(field, "must be a number, an array of numbers or {min, max, n, scale}, got " +
+                       axis.dump());
+  }
+  for (const auto& [key, value] : axis.items()) {
+    if (key != "min" && key != "max" && key != "n" && key != "scale") {
+      invalid(field + "." + key, "unknown key (expected min, max, n, scale)");
+    }
+  }
+  for (const char* key : {"min", "max"}) {
+    if (!axis.contains(key)) invalid(field + "." + key, "is required");
+    if (!finite_number(axis[key])) {
+      invalid(field + "." + key, "must be a finite number, got " + axis[key].dump());
+    }
+  }
+  if (!axis.contains("n")) invalid(field + ".n", "is required");
+  if (!axis["n"].is_number_integer()) {
+    invalid(field + ".n", "must be an integer, got " + axis["n"].dump());
+  }
+  const long long n = axis["n"].get<long long>();
+  if (n < 1) invalid(field + ".n", "must be at least 1, got " + std::to_string(n));
+  if (static_cast<unsigned long long>(n) > max_points) {
+    invalid(field + ".n", std::to_string(n) + " values exceed the sweep limit of " +
+                              std::to_string(max_points) + " points", 413);
+  }
+  std::string scale = "linear";
+  if (axis.contains("scale")) {
+    if (!axis["scale"].is_string() ||
+        (axis["scale"] != "log" && axis["scale"] != "linear")) {
+      invalid(field + ".scale", "must be \"log\" or \"linear\", got " + axis["scale"].dump());
+    }
+    scale = axis["scale"].get<std::string>();
+  }
+  const double lo = axis["min"].get<double>(), hi = axis["max"].get<double>();
+  if (lo > hi) invalid(field + ".max", "must be >= min (" + num(lo) + "), got " + num(hi));
+  if (scale == "log" && lo <= 0.0) {
+    invalid(field + ".min", "must be > 0 on a log scale, got " + num(lo));
+  }
+  std::vector<double> out;
+  for (long long i = 0; i < n; ++i) {
+    const double t = n == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(n - 1);
+    const double v = scale == "log" ? lo * std::pow(hi / lo, t) : lo + (hi - lo) * t;
+    out.push_back(round_significant(v));
+  }
+  out.front() = lo;  // the ends exactly as written
+  out.back() = n == 1 ? lo : hi;
+  return out;
+}
+
+std::string canonical_scene(const SceneParams& p) {
+  SceneParams c = p;
+  c.threads = 1;
+  return compaction::to_json(c).dump();
+}
+
+std::string job_identity(const SceneParams& p, const std::string& engine_version) {
+  return engine_version + "|" + canonical_scene(p);
+}
+
+SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
+  if (!body.is_object()) invalid("", "the request body must be a JSON object", 400);
+  for (const auto& [key, value] : body.items()) {
+    if (!request_keys.count(key)) invalid(key, "unknown key");
+  }
+  SweepPlan plan;
+  plan.request = body;
+
+  if (!body.contains("name")) invalid("name", "is required");
+  if (!body["name"].is_string()) invalid("name", "must be a string, got " + body["name"].dump());
+  plan.name = body["name"].get<std::string>();
+  if (plan.name.empty() || plan.name.size() > 200) invalid("name", "must be 1 to 200 characters");
+  plan.priority = integer_in(body, "priority", 0, -1000, 1000);
+  plan.max_attempts = integer_in(body, "max_attempts", 3, 1, limits.max_attempts);
+
+  const SceneParams base = base_scene(body, plan.preset);
+
+  const bool has_points = body.contains("points");
+  const bool has_grid = body.contains("S") || body.contains("R") || body.contains("phi");
+  if (has_points && has_grid) invalid("points", "give either points or a grid (S, R, phi), not both");
+  if (!has_points && !has_grid) invalid("points", "give points or a grid over S, R and phi");
+
+  std::set<std::string> seen;
+  auto add = [&](SceneParams p) {
+    if (seen.insert(canonical_scene(p)).second) plan.scenes.push_back(std::move(p));
+  };
+
+  if (has_points) {
+    const json& points = body["points"];
+    if (!points.is_array()) invalid("points", "must be an array, got " + points.dump());
+    if (points.empty()) invalid("points", "must not be empty");
+    if (points.size() > limits.max_points) {
+      invalid("points", std::to_string(points.size()) + " points exceed the sweep limit of " +
+                            std::to_string(limits.max_points), 413);
+    }
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::string where = "points[" + std::to_string(i) + "].";
+      const json& pt = points[i];
+      if (!pt.is_object()) invalid("points[" + std::to_string(i) + "]", "must be an object");
+      for (const auto& [key, value] : pt.items()) {
+        if (key != "S" && key != "R" && key != "phi") invalid(where + key, "unknown key");
+      }
+      add(make_scene(base, point_value(pt, "S", where), point_value(pt, "R", where),
+                     point_value(pt, "phi", where), where));
+    }
+    return plan;
+  }
+
+  for (const char* key : {"S", "R", "phi"}) {
+    if (!body.contains(key)) invalid(key, "is required for a grid");
+  }
+  const auto S = expand_axis(body["S"], "S", limits.max_points);
+  const auto R = expand_axis(body["R"], "R", limits.max_points);
+  const auto phi = expand_axis(body["phi"], "phi", limits.max_points);
+  const double total = static_cast<double>(S.size()) * R.size() * phi.size();
+  if (total > static_cast<double>(limits.max_points)) {
+    const char* biggest = S.size() >= R.size() && S.size() >= phi.size() ? "S"
+                          : R.size() >= phi.size()                      ? "R"
+                                                                        : "phi";
+    invalid(biggest, "a grid of " + std::to_string(S.size()) + " x " + std::to_string(R.size()) +
+                         " x " + std::to_string(phi.size()) + " points exceeds the sweep limit of " +
+                         std::to_string(limits.max_points), 413);
+  }
+  for (double f : phi) {
+    for (double r : R) {
+      for (double s : S) {
+        // Grid errors name the axis ("S") rather than a point.
+        add(make_scene(base, s, r, f, ""));
+      }
+    }
+  }
+  return plan;
+}
+
+}  // namespace compaction::server

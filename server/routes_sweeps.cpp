@@ -1,0 +1,115 @@
+// /api/v1/sweeps: create (grid or points), list, show with progress counts, cancel, export.
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "app.hpp"
+#include "clock.hpp"
+#include "http_util.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+namespace {
+
+std::string csv_field(const json& v) {
+  if (v.is_null()) return "";
+  std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+  if (s.find_first_of(",\"\n\r") != std::string::npos) {
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  }
+  return s;
+}
+
+// One line per job of the sweep: its parameters, state and result.
+std::string export_csv(const json& rows) {
+  static const char* job_keys[] = {"id", "S", "R", "phi", "cells_per_unit", "eps_end", "state",
+                                   "attempts", "last_error"};
+  static const char* result_keys[] = {"status", "reason", "class", "confidence", "runner_up",
+                                      "n_reflections", "band_speed_ratio", "eps_reached",
+                                      "wall_seconds", "engine_version", "source_revision"};
+  std::ostringstream out;
+  out << "job_id,S,R,phi,cells_per_unit,eps_end,state,attempts,last_error";
+  for (const char* k : result_keys) out << ',' << k;
+  out << ",scene\n";
+  for (const json& row : rows) {
+    bool first = true;
+    for (const char* k : job_keys) {
+      out << (first ? "" : ",") << csv_field(row[k]);
+      first = false;
+    }
+    const json& r = row["result"];
+    for (const char* k : result_keys) out << ',' << (r.is_null() ? "" : csv_field(r[k]));
+    out << ',' << csv_field(row["scene"].dump()) << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace
+
+void register_sweep_routes(httplib::Server& server, App& app) {
+  server.Post("/api/v1/sweeps", guarded([&app](const httplib::Request& req, httplib::Response& res) {
+    require_token(req, app.options.submit_token);
+    const json body = parse_json_body(req);
+    const SweepPlan plan = plan_sweep(body, app.limits);
+    const CreatedSweep c = app.store.create_sweep(plan, now_ms());
+    spdlog::info("sweep created id={} name=\"{}\" jobs={} new={} reused={} shared={} requeued={}",
+                 c.id, plan.name, c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
+    json out = *app.store.sweep(c.id);
+    out["created"] = {{"jobs", c.n_jobs},     {"new", c.n_new},
+                      {"reused", c.n_reused}, {"shared", c.n_shared},
+                      {"requeued", c.n_requeued}, {"preset", plan.preset}};
+    res.set_header("Location", "/api/v1/sweeps/" + std::to_string(c.id));
+    send_json(res, 201, out);
+  }));
+
+  server.Get("/api/v1/sweeps", guarded([&app](const httplib::Request& req, httplib::Response& res) {
+    const int limit = query_int(req, "limit", 100, 1, 1000);
+    const int offset = query_int(req, "offset", 0, 0, 1000000000);
+    send_json(res, 200, app.store.list_sweeps(limit, offset));
+  }));
+
+  server.Get(R"(/api/v1/sweeps/(\d+))",
+             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+               const auto s = app.store.sweep(path_id(req, 1, "sweep"));
+               if (!s) throw ApiError(404, "id", "no such sweep");
+               send_json(res, 200, *s);
+             }));
+
+  server.Post(R"(/api/v1/sweeps/(\d+)/cancel)",
+              guarded([&app](const httplib::Request& req, httplib::Response& res) {
+                require_token(req, app.options.submit_token);
+                const std::int64_t id = path_id(req, 1, "sweep");
+                const auto out = app.store.cancel_sweep(id, now_ms());
+                if (!out) throw ApiError(404, "id", "no such sweep");
+                spdlog::info("sweep cancelled id={} jobs_cancelled={}", id,
+                             (*out)["cancelled_jobs"].get<std::int64_t>());
+                send_json(res, 200, *out);
+              }));
+
+  server.Get(R"(/api/v1/sweeps/(\d+)/export)",
+             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+               const std::int64_t id = path_id(req, 1, "sweep");
+               const std::string format =
+                   req.has_param("format") ? req.get_param_value("format") : "json";
+               if (format != "json" && format != "csv") {
+                 throw ApiError(422, "format", "must be \"json\" or \"csv\"");
+               }
+               const auto sweep = app.store.sweep(id);
+               const auto rows = app.store.sweep_results(id);
+               if (!sweep || !rows) throw ApiError(404, "id", "no such sweep");
+               const std::string file = "sweep-" + std::to_string(id) + "." + format;
+               res.set_header("Content-Disposition", "attachment; filename=\"" + file + "\"");
+               if (format == "csv") {
+                 res.status = 200;
+                 res.set_content(export_csv(*rows), "text/csv");
+               } else {
+                 send_json(res, 200, {{"sweep", *sweep}, {"jobs", *rows}});
+               }
+             }));
+}
+
+}  // namespace compaction::server

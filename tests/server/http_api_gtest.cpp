@@ -1,0 +1,195 @@
+// The REST API in process on a loopback port: every bad input gets its status code and a JSON
+// error naming the field, and leaves the database exactly as it was; tokens are enforced;
+// the lease cycle works over HTTP with multipart uploads.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "app.hpp"
+#include "compaction/bundle.hpp"
+#include "compaction/params_json.hpp"
+#include "compaction/result.hpp"
+#include "temp_dir.hpp"
+
+using namespace compaction::server;
+using nlohmann::json;
+
+namespace {
+
+const std::string submit = "submit-secret";
+const std::string worker = "worker-secret";
+
+struct ApiTest : ::testing::Test {
+  TempDir dir;
+  std::unique_ptr<JobStore> store;
+  std::unique_ptr<App> app;
+  httplib::Server server;
+  std::thread thread;
+  std::unique_ptr<httplib::Client> client;
+
+  void SetUp() override {
+    StoreConfig c;
+    c.engine_version = compaction::engine_version();
+    store = std::make_unique<JobStore>(dir.file("api.db"), c);
+    ServerOptions o;
+    o.submit_token = submit;
+    o.worker_token = worker;
+    o.web_dir = "";
+    app = std::unique_ptr<App>(new App{*store, o, {}, {}});
+    app->limits.max_points = 50;
+    register_all_routes(server, *app);
+    const int port = server.bind_to_any_port("127.0.0.1");
+    ASSERT_GT(port, 0);
+    thread = std::thread([this] { server.listen_after_bind(); });
+    client = std::make_unique<httplib::Client>("127.0.0.1", port);
+    client->set_read_timeout(10, 0);
+  }
+  void TearDown() override {
+    server.stop();
+    if (thread.joinable()) thread.join();
+  }
+
+  httplib::Headers auth(const std::string& token) {
+    return {{"Authorization", "Bearer " + token}};
+  }
+  httplib::Result post(const std::string& path, const std::string& body,
+                       const std::string& token) {
+    return client->Post(path.c_str(), auth(token), body, "application/json");
+  }
+  std::int64_t create_sweep() {
+    auto r = post("/api/v1/sweeps",
+                  R"({"name": "demo", "points": [{"S": 0.05, "R": 0.001, "phi": 0.4}],
+                      "numerics": {"cells_per_unit": 8, "eps_end": 0.05}})",
+                  submit);
+    EXPECT_EQ(r->status, 201) << r->body;
+    return json::parse(r->body)["id"];
+  }
+  json lease() {
+    auto r = post("/api/v1/leases",
+                  json{{"worker", "w1"}, {"engine_version", compaction::engine_version()}}.dump(),
+                  worker);
+    EXPECT_EQ(r->status, 200);
+    return json::parse(r->body);
+  }
+};
+
+struct BadCase {
+  std::string what, method, path, body, token;
+  int status;
+  std::string field;
+};
+
+}  // namespace
+
+TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
+  create_sweep();
+  const json l = lease();
+  const std::string job = "/api/v1/jobs/" + std::to_string(l["job_id"].get<int>());
+  const std::string tok = l["lease_token"];
+  const std::string pt = R"("points": [{"S": 0.05, "R": 0.001, "phi": 0.4}])";
+  const std::vector<BadCase> cases = {
+      {"malformed JSON", "POST", "/api/v1/sweeps", "{\"name\": ", submit, 400, "body"},
+      {"NaN literal", "POST", "/api/v1/sweeps", R"({"name": "x", "points": [{"S": NaN, "R": 0.001, "phi": 0.4}]})", submit, 400, "body"},
+      {"number overflowing a double", "POST", "/api/v1/sweeps", R"({"name": "x", "points": [{"S": 1e999, "R": 0.001, "phi": 0.4}]})", submit, 400, "body"},
+      {"wrong type", "POST", "/api/v1/sweeps", R"({"name": 5, )" + pt + "}", submit, 422, "name"},
+      {"S out of range", "POST", "/api/v1/sweeps", R"({"name": "x", "points": [{"S": 2, "R": 0.001, "phi": 0.4}]})", submit, 422, "points[0].S"},
+      {"R out of range", "POST", "/api/v1/sweeps", R"({"name": "x", "points": [{"S": 0.1, "R": 0, "phi": 0.4}]})", submit, 422, "points[0].R"},
+      {"phi out of range", "POST", "/api/v1/sweeps", R"({"name": "x", "S": 0.1, "R": 0.001, "phi": [0.4, 0.99]})", submit, 422, "phi"},
+      {"oversized sweep", "POST", "/api/v1/sweeps", R"({"name": "x", "S": {"min": 0.01, "max": 0.1, "n": 10}, "R": {"min": 0.001, "max": 0.01, "n": 10}, "phi": 0.4})", submit, 413, "S"},
+      {"unknown key", "POST", "/api/v1/sweeps", R"({"name": "x", "colour": "red", )" + pt + "}", submit, 422, "colour"},
+      {"missing token", "POST", "/api/v1/sweeps", R"({"name": "x", )" + pt + "}", "", 401, "Authorization"},
+      {"wrong token", "POST", "/api/v1/sweeps", R"({"name": "x", )" + pt + "}", worker, 403, "Authorization"},
+      {"unknown sweep", "GET", "/api/v1/sweeps/999", "", "", 404, "id"},
+      {"unknown sweep cancel", "POST", "/api/v1/sweeps/999/cancel", "", submit, 404, "id"},
+      {"cancel without token", "POST", "/api/v1/sweeps/1/cancel", "", "", 401, "Authorization"},
+      {"unknown job", "GET", "/api/v1/jobs/999", "", "", 404, "id"},
+      {"bad state filter", "GET", "/api/v1/jobs?state=done", "", "", 422, "state"},
+      {"bad phi filter", "GET", "/api/v1/jobs?phi=abc", "", "", 422, "phi"},
+      {"bad limit", "GET", "/api/v1/jobs?limit=0", "", "", 422, "limit"},
+      {"phase map without phi", "GET", "/api/v1/phase-map", "", "", 422, "phi"},
+      {"phase map NaN phi", "GET", "/api/v1/phase-map?phi=nan", "", "", 422, "phi"},
+      {"unknown artifact", "GET", job + "/artifacts/spacetime.npy", "", "", 404, "name"},
+      {"bad export format", "GET", "/api/v1/sweeps/1/export?format=xml", "", "", 422, "format"},
+      {"lease without worker token", "POST", "/api/v1/leases", R"({"worker": "w", "engine_version": "x"})", submit, 403, "Authorization"},
+      {"lease without worker name", "POST", "/api/v1/leases", R"({"engine_version": "x"})", worker, 422, "worker"},
+      {"heartbeat stale token", "POST", job + "/heartbeat", R"({"lease_token": "stale", "eps": 0.01})", worker, 409, "lease_token"},
+      {"heartbeat missing token", "POST", job + "/heartbeat", R"({"eps": 0.01})", worker, 422, "lease_token"},
+      {"heartbeat bad eps", "POST", job + "/heartbeat", json{{"lease_token", tok}, {"eps", "x"}}.dump(), worker, 422, "eps"},
+      {"heartbeat unknown job", "POST", "/api/v1/jobs/999/heartbeat", json{{"lease_token", tok}}.dump(), worker, 404, "id"},
+      {"fail stale token", "POST", job + "/fail", R"({"lease_token": "stale", "reason": "x"})", worker, 409, "lease_token"},
+      {"fail without reason", "POST", job + "/fail", json{{"lease_token", tok}}.dump(), worker, 422, "reason"},
+      {"fail bad retryable", "POST", job + "/fail", json{{"lease_token", tok}, {"reason", "x"}, {"retryable", "yes"}}.dump(), worker, 422, "retryable"},
+      {"release stale token", "POST", job + "/release", R"({"lease_token": "stale"})", worker, 409, "lease_token"},
+      {"complete not multipart", "POST", job + "/complete", json{{"lease_token", tok}}.dump(), worker, 415, "Content-Type"},
+      {"unknown path", "GET", "/api/v1/nothing", "", "", 404, "path"},
+  };
+  const std::string before = store->fingerprint();
+  for (const BadCase& c : cases) {
+    httplib::Headers h;
+    if (!c.token.empty()) h = auth(c.token);
+    auto r = c.method == "GET" ? client->Get(c.path.c_str(), h)
+                               : client->Post(c.path.c_str(), h, c.body, "application/json");
+    ASSERT_TRUE(r) << c.what;
+    EXPECT_EQ(r->status, c.status) << c.what << ": " << r->body;
+    const json body = json::parse(r->body, nullptr, false);
+    ASSERT_TRUE(body.is_object()) << c.what << ": " << r->body;
+    EXPECT_EQ(body["error"]["field"], c.field) << c.what << ": " << r->body;
+    EXPECT_FALSE(body["error"]["message"].get<std::string>().empty()) << c.what;
+    EXPECT_EQ(store->fingerprint(), before) << c.what << " changed the database";
+  }
+}
+
+TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
+  const std::int64_t sweep = create_sweep();
+  const json l = lease();
+  const std::int64_t id = l["job_id"];
+  const std::string path = "/api/v1/jobs/" + std::to_string(id);
+  auto hb = post(path + "/heartbeat", json{{"lease_token", l["lease_token"]}, {"eps", 0.01}}.dump(), worker);
+  EXPECT_EQ(hb->status, 200);
+
+  // The engine's summary for exactly the leased scene.
+  compaction::SceneParams p;
+  ASSERT_TRUE(compaction::from_json(l["scene"], p).empty());
+  compaction::RunResult run;
+  run.eps_reached = 0.05;
+  json summary = compaction::summary_json(p, run);
+  summary["classification"] = {{"class", "c"}, {"confidence", 0.7}, {"runner_up", "b"},
+                               {"n_reflections", 0}, {"band_speed_ratio", 1.6}, {"features", json::object()}};
+  httplib::MultipartFormDataItems items = {
+      {"lease_token", l["lease_token"], "", "text/plain"},
+      {"summary", summary.dump(), "summary.json", "application/json"},
+      {"files", "eps,sigma_top\n0.002,1\n", "frames.csv", "text/csv"},
+  };
+  auto wrong = items;
+  wrong[0].content = "stale";
+  const std::string before = store->fingerprint();
+  auto stale = client->Post((path + "/complete").c_str(), auth(worker), wrong);
+  EXPECT_EQ(stale->status, 409) << stale->body;
+  EXPECT_EQ(store->fingerprint(), before);
+
+  auto done = client->Post((path + "/complete").c_str(), auth(worker), items);
+  ASSERT_EQ(done->status, 200) << done->body;
+  auto again = client->Post((path + "/complete").c_str(), auth(worker), items);
+  EXPECT_EQ(again->status, 409) << "a result is never overwritten";
+
+  const json job = json::parse(client->Get(path.c_str())->body);
+  EXPECT_EQ(job["state"], "succeeded");
+  EXPECT_EQ(job["result"]["class"], "c");
+  EXPECT_EQ(job["result"]["source_revision"], compaction::source_revision());
+  const json map = json::parse(client->Get("/api/v1/phase-map?phi=0.4")->body);
+  ASSERT_EQ(map["points"].size(), 1u);
+  EXPECT_EQ(map["points"][0]["class"], "c");
+  EXPECT_EQ(map["points"][0]["job_id"], id);
+  EXPECT_EQ(client->Get((path + "/artifacts/frames.csv").c_str())->body, "eps,sigma_top\n0.002,1\n");
+  const auto csv = client->Get(("/api/v1/sweeps/" + std::to_string(sweep) + "/export?format=csv").c_str());
+  EXPECT_EQ(csv->status, 200);
+  EXPECT_NE(csv->body.find(",c,0.7,b,"), std::string::npos) << csv->body;
+  const auto metrics = client->Get("/metrics")->body;
+  EXPECT_NE(metrics.find("compaction_jobs{state=\"succeeded\"} 1"), std::string::npos) << metrics;
+}
+
+TEST_F(ApiTest, AnEmptyQueueAnswers204) {
+  auto r = post("/api/v1/leases",
+                json{{"worker", "w1"}, {"engine_version", compaction::engine_version()}}.dump(), worker);
+  EXPECT_EQ(r->status, 204);
+}

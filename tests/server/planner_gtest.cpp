@@ -1,0 +1,159 @@
+// Sweep planning: grids (log, linear, lists), points, presets, numerics, limits and the
+// field named by each error.
+#include "planner.hpp"
+
+#include <gtest/gtest.h>
+
+#include "api_error.hpp"
+
+using namespace compaction::server;
+using nlohmann::json;
+
+namespace {
+
+// The error a body raises: {status, field}.
+std::pair<int, std::string> error_of(const json& body, PlannerLimits limits = {}) {
+  try {
+    plan_sweep(body, limits);
+  } catch (const ApiError& e) {
+    return {e.status, e.field};
+  }
+  return {0, "no error"};
+}
+
+json grid() {
+  return {{"name", "g"},
+          {"S", {{"min", 1e-3}, {"max", 1e-1}, {"n", 3}, {"scale", "log"}}},
+          {"R", json::array({1e-5, 1e-3})},
+          {"phi", 0.4},
+          {"numerics", {{"preset", "fast"}, {"eps_end", 0.05}}}};
+}
+
+}  // namespace
+
+TEST(Planner, ALogGridHitsTheDecadesExactly) {
+  const auto v = expand_axis({{"min", 1e-3}, {"max", 1e-1}, {"n", 5}, {"scale", "log"}}, "S", 100);
+  ASSERT_EQ(v.size(), 5u);
+  EXPECT_EQ(v[0], 1e-3);
+  EXPECT_EQ(v[2], 0.01) << "10^-2 must be the same double as the literal, for reuse";
+  EXPECT_EQ(v[4], 0.1);
+  EXPECT_NEAR(v[1], std::sqrt(1e-3 * 1e-2), 1e-12 * v[1]) << "rounded to 12 significant digits";
+}
+
+TEST(Planner, ALinearGridIsEvenlySpaced) {
+  const auto v = expand_axis({{"min", 0.3}, {"max", 0.5}, {"n", 3}}, "phi", 100);
+  EXPECT_EQ(v, (std::vector<double>{0.3, 0.4, 0.5}));
+}
+
+TEST(Planner, AGridIsTheProductOfItsAxesWithThePresetsNumerics) {
+  const SweepPlan p = plan_sweep(grid());
+  ASSERT_EQ(p.scenes.size(), 6u);
+  EXPECT_EQ(p.preset, "fast");
+  for (const auto& s : p.scenes) {
+    EXPECT_EQ(s.cells_per_unit, 8);
+    EXPECT_DOUBLE_EQ(s.eps_end, 0.05);
+    EXPECT_EQ(s.phi, 0.4);
+  }
+  EXPECT_EQ(p.scenes[0].S, 1e-3);
+  EXPECT_EQ(p.scenes[0].R, 1e-5);
+  EXPECT_EQ(p.scenes[5].S, 0.1);
+  EXPECT_EQ(p.scenes[5].R, 1e-3);
+}
+
+TEST(Planner, ExplicitNumericsOverrideThePreset) {
+  json b = grid();
+  b["numerics"]["cells_per_unit"] = 6;
+  EXPECT_EQ(plan_sweep(b).scenes[0].cells_per_unit, 6);
+  b["numerics"].erase("preset");
+  b["numerics"].erase("cells_per_unit");
+  EXPECT_EQ(plan_sweep(b).scenes[0].cells_per_unit, 20) << "the default preset";
+}
+
+TEST(Planner, TheIssuesExampleBodyWorks) {
+  const json body = json::parse(R"({"name": "demo", "points": [{"S": 0.05, "R": 0.001,
+      "phi": 0.4}], "numerics": {"cells_per_unit": 8, "eps_end": 0.05}})");
+  const SweepPlan p = plan_sweep(body);
+  ASSERT_EQ(p.scenes.size(), 1u);
+  EXPECT_EQ(p.scenes[0].S, 0.05);
+  EXPECT_EQ(p.priority, 0);
+  EXPECT_EQ(p.max_attempts, 3);
+}
+
+TEST(Planner, DuplicatePointsCollapse) {
+  json b = {{"name", "d"},
+            {"points", {{{"S", 0.05}, {"R", 1e-3}, {"phi", 0.4}},
+                        {{"S", 0.05}, {"R", 1e-3}, {"phi", 0.4}}}}};
+  EXPECT_EQ(plan_sweep(b).scenes.size(), 1u);
+}
+
+TEST(Planner, ErrorsNameTheFieldAtFault) {
+  auto pts = [](json point) {
+    return json{{"name", "p"}, {"points", json::array({{{"S", 0.05}, {"R", 1e-3}, {"phi", 0.4}}, point})}};
+  };
+  EXPECT_EQ(error_of(pts({{"S", 0.05}, {"R", 1e-3}, {"phi", 0.95}})),
+            std::make_pair(422, std::string("points[1].phi")));
+  EXPECT_EQ(error_of(pts({{"S", "0.05"}, {"R", 1e-3}, {"phi", 0.4}})),
+            std::make_pair(422, std::string("points[1].S")));
+  EXPECT_EQ(error_of(pts({{"S", -1}, {"R", 1e-3}, {"phi", 0.4}})),
+            std::make_pair(422, std::string("points[1].S")));
+  EXPECT_EQ(error_of(pts({{"S", 0.05}, {"phi", 0.4}})),
+            std::make_pair(422, std::string("points[1].R")));
+  EXPECT_EQ(error_of(pts({{"S", 0.05}, {"R", 1e-3}, {"phi", 0.4}, {"T", 1}})),
+            std::make_pair(422, std::string("points[1].T")));
+
+  json b = grid();
+  b["S"]["min"] = 0;
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("S.min"))) << "log scale needs min > 0";
+  b = grid();
+  b["S"]["n"] = 2.5;
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("S.n")));
+  b = grid();
+  b["R"] = json::array({1e-3, 2.0});
+  EXPECT_EQ(error_of(b).second, "R");
+  b = grid();
+  b["numerics"]["preset"] = "turbo";
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("numerics.preset")));
+  b = grid();
+  b["numerics"]["cfl"] = "big";
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("numerics.cfl")));
+  b = grid();
+  b["numerics"]["threads"] = 4;
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("numerics.threads")));
+  b = grid();
+  b["numerics"]["cells_per_unit"] = 3;  // struts of phi = 0.4 thinner than a cell
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("numerics.cells_per_unit")));
+  b = grid();
+  b["priority"] = 1e6;
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("priority")));
+  b = grid();
+  b.erase("name");
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("name")));
+  b = grid();
+  b["points"] = json::array();
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("points")));
+  EXPECT_EQ(error_of(json::array()).first, 400);
+}
+
+TEST(Planner, OversizedSweepsAreRefusedWith413) {
+  PlannerLimits limits;
+  limits.max_points = 10;
+  json b = grid();  // 6 points: fine
+  EXPECT_EQ(error_of(b, limits).first, 0);
+  b["R"] = {{"min", 1e-5}, {"max", 1e-3}, {"n", 2}, {"scale", "log"}};
+  b["phi"] = json::array({0.4, 0.5});  // 3 x 2 x 2 = 12
+  EXPECT_EQ(error_of(b, limits).first, 413);
+  b["S"]["n"] = 1'000'000'000;
+  EXPECT_EQ(error_of(b, limits), std::make_pair(413, std::string("S.n")));
+  json pts = {{"name", "p"}, {"points", json::array()}};
+  for (int i = 0; i < 11; ++i) pts["points"].push_back({{"S", 0.01 + i * 0.001}, {"R", 1e-3}, {"phi", 0.4}});
+  EXPECT_EQ(error_of(pts, limits), std::make_pair(413, std::string("points")));
+}
+
+TEST(Planner, TheIdentityIgnoresThreadsButNotNumerics) {
+  compaction::SceneParams a, b;
+  b.threads = 8;
+  EXPECT_EQ(job_identity(a, "v1"), job_identity(b, "v1"));
+  b.cells_per_unit = 8;
+  EXPECT_NE(job_identity(a, "v1"), job_identity(b, "v1"));
+  EXPECT_NE(job_identity(a, "v1"), job_identity(a, "v2"));
+}

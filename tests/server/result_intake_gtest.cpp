@@ -1,0 +1,108 @@
+// Checking a worker's upload against its job: the engine's own summary.json is accepted, with
+// the classification when present; mismatched parameters, versions, statuses and file names
+// are refused naming the field.
+#include "result_intake.hpp"
+
+#include <gtest/gtest.h>
+
+#include "api_error.hpp"
+#include "compaction/bundle.hpp"
+#include "planner.hpp"
+
+using namespace compaction::server;
+using nlohmann::json;
+
+namespace {
+
+compaction::SceneParams scene() {
+  compaction::SceneParams p;
+  p.S = 0.05;
+  p.R = 1e-3;
+  p.cells_per_unit = 6;
+  p.eps_end = 0.02;
+  return p;
+}
+
+// A summary as the engine writes it.
+json engine_summary(compaction::RunStatus status = compaction::RunStatus::ok) {
+  compaction::RunResult r;
+  r.status = status;
+  if (status == compaction::RunStatus::unstable) r.reason = "kinetic energy grew 1e6-fold";
+  r.eps_reached = 0.02;
+  compaction::SceneParams p = scene();
+  p.threads = 2;  // the worker's choice: not part of the identity
+  return compaction::summary_json(p, r);
+}
+
+std::string field_of(const std::string& summary, std::vector<UploadedFile> files = {}) {
+  try {
+    intake_result(summary, canonical_scene(scene()), compaction::engine_version(), std::move(files));
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.status, 422);
+    return e.field;
+  }
+  return "accepted";
+}
+
+}  // namespace
+
+TEST(ResultIntake, TheEnginesSummaryIsAccepted) {
+  const ResultRecord r =
+      intake_result(engine_summary().dump(), canonical_scene(scene()), compaction::engine_version(),
+                    {{"frames.csv", "eps\n"}, {"spacetime.npy", "x"}, {"snapshot_0.200.png", "p"}});
+  EXPECT_EQ(r.status, "ok");
+  EXPECT_EQ(r.engine_version, compaction::engine_version());
+  EXPECT_EQ(r.source_revision, compaction::source_revision());
+  EXPECT_EQ(r.scene, canonical_scene(scene()));
+  EXPECT_FALSE(r.cls) << "no classification in this summary: stored as null";
+  ASSERT_EQ(r.artifacts.size(), 3u);
+  EXPECT_EQ(r.artifacts[2].content_type, "image/png");
+}
+
+TEST(ResultIntake, AnUnstableRunIsAResultWithItsReason) {
+  const ResultRecord r =
+      intake_result(engine_summary(compaction::RunStatus::unstable).dump(),
+                    canonical_scene(scene()), compaction::engine_version(), {});
+  EXPECT_EQ(r.status, "unstable");
+  EXPECT_EQ(r.reason, "kinetic energy grew 1e6-fold");
+}
+
+TEST(ResultIntake, TheClassificationIsStoredWhenPresent) {
+  json s = engine_summary();
+  s["classification"] = {{"class", "b"},         {"confidence", 0.8},
+                         {"runner_up", "a"},     {"n_reflections", 2},
+                         {"band_speed_ratio", 2.1}, {"features", {{"n_fronts", 1}}}};
+  const ResultRecord r =
+      intake_result(s.dump(), canonical_scene(scene()), compaction::engine_version(), {});
+  EXPECT_EQ(r.cls, "b");
+  EXPECT_EQ(r.confidence, 0.8);
+  EXPECT_EQ(r.runner_up, "a");
+  EXPECT_EQ(r.n_reflections, 2);
+  EXPECT_EQ(r.band_speed_ratio, 2.1);
+  EXPECT_EQ(json::parse(*r.features)["n_fronts"], 1);
+}
+
+TEST(ResultIntake, BadUploadsNameTheField) {
+  EXPECT_EQ(field_of("not json"), "summary");
+  EXPECT_EQ(field_of(engine_summary(compaction::RunStatus::cancelled).dump()), "summary.status");
+  json s = engine_summary();
+  s["params"]["phi"] = 0.5;
+  EXPECT_EQ(field_of(s.dump()), "summary.params");
+  s = engine_summary();
+  s["params"]["phi"] = "x";
+  EXPECT_EQ(field_of(s.dump()), "summary.params.phi");
+  s = engine_summary();
+  s["engine_version"] = "9.9.9";
+  EXPECT_EQ(field_of(s.dump()), "summary.engine_version");
+  s = engine_summary();
+  s.erase("source_revision");
+  EXPECT_EQ(field_of(s.dump()), "summary.source_revision");
+  s = engine_summary();
+  s["classification"] = {{"class", "z"}};
+  EXPECT_EQ(field_of(s.dump()), "summary.classification.class");
+  s["classification"] = {{"class", "a"}, {"confidence", 1.5}};
+  EXPECT_EQ(field_of(s.dump()), "summary.classification.confidence");
+  EXPECT_EQ(field_of(engine_summary().dump(), {{"../etc/passwd", "x"}}), "files[../etc/passwd]");
+  EXPECT_EQ(field_of(engine_summary().dump(), {{"run.sh", "x"}}), "files[run.sh]");
+  EXPECT_EQ(field_of(engine_summary().dump(), {{"a.csv", "x"}, {"a.csv", "y"}}), "files[a.csv]");
+}

@@ -1,0 +1,94 @@
+#include "api_client.hpp"
+
+#include <httplib.h>
+
+namespace compaction::worker {
+
+using nlohmann::json;
+
+namespace {
+
+Reply to_reply(const httplib::Result& r) {
+  Reply out;
+  if (!r) {
+    out.message = "no answer: " + httplib::to_string(r.error());
+    return out;
+  }
+  out.status = r->status;
+  if (!r->body.empty()) out.body = json::parse(r->body, nullptr, false);
+  if (out.body.is_discarded()) out.body = nullptr;
+  if (out.body.is_object() && out.body.contains("error")) {
+    const json& e = out.body["error"];
+    out.message = e.value("field", std::string()) + ": " + e.value("message", std::string());
+  }
+  if (r->status == 200 || r->status == 201) {
+    out.outcome = Outcome::ok;
+  } else if (r->status == 204) {
+    out.outcome = Outcome::empty;
+  } else if (r->status == 409) {
+    out.outcome = Outcome::lease_lost;
+  } else if (r->status == 404) {
+    out.outcome = Outcome::not_found;
+  } else if (r->status >= 400 && r->status < 500) {
+    out.outcome = Outcome::rejected;
+  } else {
+    out.outcome = Outcome::unreachable;
+    if (out.message.empty()) out.message = "HTTP " + std::to_string(r->status);
+  }
+  return out;
+}
+
+httplib::Client make_client(const std::string& base) {
+  httplib::Client c(base);
+  c.set_connection_timeout(5, 0);
+  c.set_read_timeout(120, 0);
+  c.set_write_timeout(120, 0);
+  return c;
+}
+
+}  // namespace
+
+ApiClient::ApiClient(std::string base_url, std::string token)
+    : base_url_(std::move(base_url)), token_(std::move(token)) {}
+
+Reply ApiClient::post_json(const std::string& path, const json& body) {
+  auto c = make_client(base_url_);
+  httplib::Headers h;
+  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  return to_reply(c.Post(path.c_str(), h, body.dump(), "application/json"));
+}
+
+Reply ApiClient::lease(const std::string& worker, const std::string& engine_version) {
+  return post_json("/api/v1/leases", {{"worker", worker}, {"engine_version", engine_version}});
+}
+
+Reply ApiClient::heartbeat(std::int64_t job_id, const std::string& lease_token, double eps) {
+  return post_json("/api/v1/jobs/" + std::to_string(job_id) + "/heartbeat",
+                   {{"lease_token", lease_token}, {"eps", eps}});
+}
+
+Reply ApiClient::complete(std::int64_t job_id, const std::string& lease_token,
+                          const std::string& summary, const std::vector<UploadFile>& files) {
+  auto c = make_client(base_url_);
+  httplib::Headers h;
+  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  httplib::MultipartFormDataItems items = {
+      {"lease_token", lease_token, "", "text/plain"},
+      {"summary", summary, "summary.json", "application/json"},
+  };
+  for (const auto& f : files) items.push_back({"files", f.data, f.name, "application/octet-stream"});
+  return to_reply(c.Post(("/api/v1/jobs/" + std::to_string(job_id) + "/complete").c_str(), h, items));
+}
+
+Reply ApiClient::fail(std::int64_t job_id, const std::string& lease_token,
+                      const std::string& reason, bool retryable) {
+  return post_json("/api/v1/jobs/" + std::to_string(job_id) + "/fail",
+                   {{"lease_token", lease_token}, {"reason", reason}, {"retryable", retryable}});
+}
+
+Reply ApiClient::release(std::int64_t job_id, const std::string& lease_token) {
+  return post_json("/api/v1/jobs/" + std::to_string(job_id) + "/release",
+                   {{"lease_token", lease_token}});
+}
+
+}  // namespace compaction::worker

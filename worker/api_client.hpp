@@ -1,0 +1,55 @@
+// The worker's HTTP calls to the server (the queue endpoints of docs/service.md). Each call
+// answers what happened without throwing: transport failures are "unreachable", so the worker
+// can wait and try again while a server restarts.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace compaction::worker {
+
+enum class Outcome {
+  ok,
+  empty,        // 204: nothing to lease
+  lease_lost,   // 409: the lease is not live any more
+  not_found,    // 404
+  rejected,     // another 4xx: the request itself is wrong (details in message)
+  unreachable,  // no answer or a 5xx: try again later
+};
+
+struct Reply {
+  Outcome outcome = Outcome::unreachable;
+  int status = 0;
+  nlohmann::json body;  // parsed JSON body, null when none
+  std::string message;  // error message for logs
+};
+
+struct UploadFile {
+  std::string name;
+  std::string data;
+};
+
+class ApiClient {
+ public:
+  ApiClient(std::string base_url, std::string token);
+
+  Reply lease(const std::string& worker, const std::string& engine_version);
+  Reply heartbeat(std::int64_t job_id, const std::string& lease_token, double eps);
+  Reply complete(std::int64_t job_id, const std::string& lease_token, const std::string& summary,
+                 const std::vector<UploadFile>& files);
+  Reply fail(std::int64_t job_id, const std::string& lease_token, const std::string& reason,
+             bool retryable);
+  Reply release(std::int64_t job_id, const std::string& lease_token);
+
+ private:
+  Reply post_json(const std::string& path, const nlohmann::json& body);
+
+  std::string base_url_;
+  std::string token_;
+};
+
+}  // namespace compaction::worker

@@ -1,0 +1,55 @@
+// Runs one leased job: writes its scene, starts compaction-run as a child process
+// (docs/runner.md), turns its progress lines into heartbeats, and reports the end:
+//   exit 0            -> upload summary.json and the bundle's files (status ok or unstable)
+//   exit 2            -> fail, not retryable (invalid input)
+//   exit 3, 1, other,
+//   killed by signal  -> fail, retryable, with the reason and the tail of the runner's stderr
+//   heartbeat 409     -> the lease is lost (expired or cancelled): stop the run, report nothing
+//   stop requested    -> stop the run, release the lease (the job requeues at once)
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api_client.hpp"
+#include "options.hpp"
+
+namespace compaction::worker {
+
+struct LeasedJob {
+  std::int64_t id = 0;
+  std::string token;
+  nlohmann::json scene;
+  double lease_seconds = 60;
+  int attempt = 1;
+  int max_attempts = 1;
+};
+
+enum class JobEnd {
+  succeeded,       // result stored (ok or unstable)
+  failed,          // reported as failed (the server retries or gives up)
+  lease_lost,      // someone else owns the job now; nothing was reported
+  released,        // the worker is stopping; the job went back to the queue
+  not_reported,    // the server could not be reached in time; the lease will expire
+};
+const char* to_string(JobEnd e);
+
+class JobRunner {
+ public:
+  JobRunner(const WorkerOptions& options, ApiClient& client, const std::atomic<bool>& stop);
+  JobEnd run(const LeasedJob& job);
+
+ private:
+  JobEnd report_failure(const LeasedJob& job, const std::string& reason, bool retryable);
+  JobEnd upload(const LeasedJob& job, const std::string& out_dir);
+  JobEnd release(const LeasedJob& job);
+
+  const WorkerOptions& options_;
+  ApiClient& client_;
+  const std::atomic<bool>& stop_;
+};
+
+}  // namespace compaction::worker

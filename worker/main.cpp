@@ -1,0 +1,114 @@
+// compaction-worker: the headless loop. Lease a job, run it (job_runner.hpp), repeat; stop on
+// SIGTERM/SIGINT (releasing the current lease), after --max-jobs, or after --idle-exit seconds
+// without work. Never touches the database: everything goes through the server's HTTP API.
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "api_client.hpp"
+#include "compaction/result.hpp"
+#include "job_runner.hpp"
+#include "options.hpp"
+
+using namespace compaction::worker;
+
+namespace {
+
+std::atomic<bool> stop_requested{false};
+
+extern "C" void on_signal(int) { stop_requested = true; }
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART: a blocking poll() returns at once
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+// Sleeps up to `seconds`, waking early when a stop is requested.
+void nap(double seconds) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!stop_requested && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int exit_code = 0;
+  const auto options = parse_worker_options(argc, argv, exit_code);
+  if (!options) return exit_code;
+  spdlog::set_level(spdlog::level::from_str(options->log_level));
+  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ worker " + options->name + ": %v");
+  install_signal_handlers();
+
+  std::error_code ec;
+  std::filesystem::create_directories(options->work_dir, ec);
+  if (ec) {
+    spdlog::error("cannot create the work folder {}: {}", options->work_dir, ec.message());
+    return 1;
+  }
+  ApiClient client(options->server, options->token);
+  JobRunner runner(*options, client, stop_requested);
+  spdlog::info("started: server={} runner={} engine={} threads={} work_dir={}", options->server,
+               options->runner, compaction::engine_version(), options->threads, options->work_dir);
+
+  int jobs = 0;
+  auto last_work = std::chrono::steady_clock::now();
+  bool warned_unreachable = false;
+  while (!stop_requested) {
+    if (options->max_jobs > 0 && jobs >= options->max_jobs) {
+      spdlog::info("done: {} job(s), the --max-jobs limit", jobs);
+      break;
+    }
+    const Reply r = client.lease(options->name, compaction::engine_version());
+    if (r.outcome == Outcome::ok) {
+      warned_unreachable = false;
+      LeasedJob job;
+      try {
+        job.id = r.body.at("job_id").get<std::int64_t>();
+        job.token = r.body.at("lease_token").get<std::string>();
+        job.scene = r.body.at("scene");
+        job.lease_seconds = r.body.at("lease_seconds").get<double>();
+        job.attempt = r.body.at("attempt").get<int>();
+        job.max_attempts = r.body.at("max_attempts").get<int>();
+      } catch (const std::exception& e) {
+        spdlog::error("malformed lease answer ({}): {}", e.what(), r.body.dump());
+        return 1;
+      }
+      ++jobs;
+      const JobEnd end = runner.run(job);
+      spdlog::info("job {} ended: {}", job.id, to_string(end));
+      last_work = std::chrono::steady_clock::now();
+      continue;
+    }
+    if (r.outcome == Outcome::rejected || r.outcome == Outcome::not_found) {
+      // A wrong token or a server that is not compaction-server: waiting will not help.
+      spdlog::error("the server refused the lease request (HTTP {}): {}", r.status, r.message);
+      return 2;
+    }
+    if (r.outcome == Outcome::unreachable && !warned_unreachable) {
+      spdlog::warn("server unreachable ({}); retrying every {} s", r.message, options->poll_interval);
+      warned_unreachable = true;
+    }
+    const double idle =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - last_work).count();
+    if (options->idle_exit > 0 && idle >= options->idle_exit) {
+      spdlog::info("done: idle for {:.0f} s ({} job(s))", idle, jobs);
+      break;
+    }
+    nap(options->poll_interval);
+  }
+  if (stop_requested) spdlog::info("stopped by signal after {} job(s)", jobs);
+  if (!options->keep_work) std::filesystem::remove(options->work_dir, ec);  // only if empty
+  return 0;
+}
