@@ -70,25 +70,34 @@ State build_scene(const SceneParams& p) {
   su.contact = p.contact;
   su.side_walls = p.geometry == Geometry::full2d;
 
-  const double L = p.unit_cell(), hole = p.hole_side(), half = 0.5 * hole;
+  // The hole is a whole number of particle columns and rows: the count nearest to its side
+  // L sqrt(1 - phi), so that the particles represent phi as closely as the lattice allows
+  // (centring it on the cell instead would force an even count and could miss phi by 10 %).
+  // With an odd count the hole sits half a particle off centre, the same in every cell:
+  // a translation of the whole structure, which leaves every strut and hole alike.
+  const int per_unit = p.cells_per_unit * p.particles_per_cell;  // particles per cell side
   const double spacing = g.dx / p.particles_per_cell;
+  const int hole_n = std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0,
+                                per_unit - 1);
+  const int hole_first = (per_unit - hole_n) / 2;  // first hole column/row within a cell
   const int strut_cols = p.geometry == Geometry::pseudo1d ? 1 : p.cols() + 1;
   su.n_struts = strut_cols * p.n_rows;
-  su.strut_thickness = L - hole;
+  su.strut_thickness = (per_unit - hole_n) * spacing;
 
   Particles& P = s.particles;
   P.vol0 = spacing * spacing;
   P.mass = p.rho * P.vol0;
   SplitMix64 rng{p.seed};
-  const int npx = p.cols() * p.cells_per_unit * p.particles_per_cell;
-  const int npy = p.n_rows * p.cells_per_unit * p.particles_per_cell;
+  const int npx = p.cols() * per_unit, npy = p.n_rows * per_unit;
+  const double quarter = 0.25 * hole_n;  // half of a hole's half-height, in particles
   for (int j = 0; j < npy; ++j) {
+    const int cy = j / per_unit, ly = j % per_unit - hole_first;  // row within the cell
+    const bool hole_row = hole_n > 0 && ly >= 0 && ly < hole_n;
     for (int i = 0; i < npx; ++i) {
-      const double x = (i + 0.5) * spacing, y = (j + 0.5) * spacing;
-      const int cx = static_cast<int>(x / L), cy = static_cast<int>(y / L);
-      const double ux = x - (cx + 0.5) * L, uy = y - (cy + 0.5) * L;  // from the cell centre
-      if (std::abs(ux) < half && std::abs(uy) < half) continue;       // in the hole
-      double px = x, py = y;
+      const int lx = i % per_unit - hole_first;
+      const bool hole_col = hole_n > 0 && lx >= 0 && lx < hole_n;
+      if (hole_row && hole_col) continue;
+      double px = (i + 0.5) * spacing, py = (j + 0.5) * spacing;
       if (p.perturbation > 0.0) {
         px += (2.0 * rng.uniform() - 1.0) * p.perturbation * spacing;
         py += (2.0 * rng.uniform() - 1.0) * p.perturbation * spacing;
@@ -97,12 +106,14 @@ State build_scene(const SceneParams& p) {
       P.x.push_back(px);
       P.y.push_back(py);
       P.x0.push_back(px);
-      // A vertical strut spans the height of the holes of its row, between two holes.
-      if (std::abs(uy) < half) {
-        int edge = static_cast<int>(std::lround(x / L));  // the cell edge it surrounds
-        if (p.geometry == Geometry::pseudo1d) edge = 0;   // both edges are one strut
+      // A vertical strut spans the rows of the holes, between two holes of a row.
+      if (hole_row) {
+        // The strut a column belongs to: the cell edge it is nearest (pseudo1d: the only one).
+        int edge = i / per_unit + (lx >= hole_n ? 1 : 0);
+        if (p.geometry == Geometry::pseudo1d) edge = 0;
         P.strut.push_back(cy * strut_cols + edge);
-        P.strut_mid.push_back(std::abs(uy) < 0.5 * half ? 1 : 0);
+        const double from_mid = std::abs(ly + 0.5 - 0.5 * hole_n);
+        P.strut_mid.push_back(from_mid < quarter ? 1 : 0);
       } else {
         P.strut.push_back(-1);
         P.strut_mid.push_back(0);

@@ -1,0 +1,61 @@
+// Engine speed on the reference scene of the engine issue: pseudo-1D, phi = 0.4, 20 cells per
+// unit cell, 2 x 2 particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one
+// thread unless the benchmark says otherwise. Reports ns per particle-step (time-stepping loop
+// only, scene building excluded) and its split by stage. Run it with bench/run_engine_bench.sh.
+#include <benchmark/benchmark.h>
+
+#include "compaction/simulation.hpp"
+
+namespace {
+
+compaction::SceneParams reference_scene() {
+  compaction::SceneParams p;
+  p.S = 4e-3, p.R = 1e-5, p.phi = 0.4;
+  p.cells_per_unit = 20, p.particles_per_cell = 2;
+  p.eps_end = 0.008;
+  p.snapshot_eps = {};
+  return p;
+}
+
+void report(benchmark::State& state, const compaction::RunResult& r) {
+  const double per = 1e9 / (static_cast<double>(r.steps) * r.n_particles);
+  state.counters["ns_per_particle_step"] = r.ns_per_particle_step;
+  state.counters["p2g_ns"] = r.stage_seconds.p2g * per;
+  state.counters["grid_ns"] = r.stage_seconds.grid_update * per;
+  state.counters["g2p_ns"] = r.stage_seconds.g2p * per;
+  state.counters["diag_ns"] = r.stage_seconds.diagnostics * per;
+  state.counters["particles"] = static_cast<double>(r.n_particles);
+  state.counters["steps"] = static_cast<double>(r.steps);
+}
+
+void run(benchmark::State& state, compaction::SceneParams p) {
+  compaction::RunResult r;
+  for (auto _ : state) {
+    r = compaction::run_scene(p);
+    benchmark::DoNotOptimize(r.frames.data());
+  }
+  if (r.status != compaction::RunStatus::ok) state.SkipWithError(r.reason.c_str());
+  report(state, r);
+}
+
+void BM_ReferenceScene_Apic_1Thread(benchmark::State& state) { run(state, reference_scene()); }
+
+void BM_ReferenceScene_PicFlip_1Thread(benchmark::State& state) {
+  auto p = reference_scene();
+  p.transfer = compaction::Transfer::pic_flip;
+  run(state, p);
+}
+
+void BM_ReferenceScene_Apic_2Threads(benchmark::State& state) {
+  auto p = reference_scene();
+  p.threads = 2;
+  run(state, p);
+}
+
+}  // namespace
+
+BENCHMARK(BM_ReferenceScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ReferenceScene_PicFlip_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ReferenceScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+BENCHMARK_MAIN();

@@ -1,0 +1,29 @@
+#!/usr/bin/env python3
+"""Turns Google Benchmark's JSON of engine_bench into a Markdown table of medians and ratios."""
+import json
+import sys
+
+data = json.load(open(sys.argv[1]))
+ctx = data["context"]
+rows = {}
+for b in data["benchmarks"]:
+    if b.get("aggregate_name") != "median":
+        continue
+    rows[b["run_name"].replace("BM_", "")] = b
+
+print("# Engine benchmark: reference scene\n")
+print("pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, S = 4e-3, "
+      "R = 1e-5, eps 0 -> 0.008 (about 3200 steps). Medians of 5 repetitions.\n")
+print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, "
+      f"build {ctx.get('library_build_type')} benchmark library, date {ctx.get('date')}.\n")
+print("Command: `bench/run_engine_bench.sh`\n")
+print("| variant | ns / particle-step | P2G | grid update | G2P + plasticity | diagnostics | wall (ms) |")
+print("|---|---|---|---|---|---|---|")
+for name, b in rows.items():
+    print(f"| {name} | {b['ns_per_particle_step']:.1f} | {b['p2g_ns']:.1f} | {b['grid_ns']:.1f} | "
+          f"{b['g2p_ns']:.1f} | {b['diag_ns']:.1f} | {b['real_time']:.0f} |")
+base = rows.get("ReferenceScene_Apic_1Thread")
+if base:
+    print("\nRatios to ReferenceScene_Apic_1Thread (ns / particle-step):\n")
+    for name, b in rows.items():
+        print(f"- {name}: {b['ns_per_particle_step'] / base['ns_per_particle_step']:.2f}")

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# compaction-run end to end: help, clear errors with exit 2 for bad input, a small run that
+# writes a complete bundle, JSON progress lines, and a scene file overridden by flags.
+set -u
+run="$1"
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail=0; pass=0
+check() {  # check NAME CONDITION...
+  local name="$1"; shift
+  if "$@"; then pass=$((pass + 1)); else echo "FAILED: $name"; fail=$((fail + 1)); fi
+}
+
+"$run" --help > "$out/help" 2>&1; rc=$?
+check "help exits 0" test $rc -eq 0
+check "help documents --cells-per-unit" grep -q -- "--cells-per-unit" "$out/help"
+
+"$run" --phi 0.9 --out "$out/x" 2> "$out/err"; rc=$?
+check "phi out of range exits 2" test $rc -eq 2
+check "phi error names the flag" grep -q -- "--phi (phi): must be in \[0.2, 0.8\]" "$out/err"
+check "nothing written on bad input" test ! -e "$out/x"
+
+"$run" --S abc --out "$out/x" 2> "$out/err"; rc=$?
+check "non-number exits 2" test $rc -eq 2
+check "non-number message" grep -q -- "--S: expected a finite number, got 'abc'" "$out/err"
+
+"$run" --S 0.05 2> "$out/err"; rc=$?
+check "missing --out exits 2" test $rc -eq 2
+check "missing --out message" grep -q -- "--out: required" "$out/err"
+
+"$run" --bogus 1 --out "$out/x" 2> "$out/err"; rc=$?
+check "unknown flag exits 2" test $rc -eq 2
+
+echo '{"S": 0.05, "R": 0.001, "phi": 0.4, "cells_per_unit": 5, "eps_end": 0.9}' > "$out/scene.json"
+"$run" --scene "$out/scene.json" --eps-end 0.01 --progress json --out "$out/b" > "$out/progress" 2> "$out/err"; rc=$?
+check "run exits 0" test $rc -eq 0
+check "bundle has summary" test -s "$out/b/summary.json"
+check "flag overrides scene file" grep -q '"eps_end": 0.01' "$out/b/summary.json"
+check "scene file value kept" grep -q '"cells_per_unit": 5' "$out/b/summary.json"
+check "json progress has start" grep -q '"event":"start"' "$out/progress"
+check "json progress has progress" grep -q '"event":"progress"' "$out/progress"
+check "json progress has done ok" grep -q '"event":"done".*"status":"ok"\|"status":"ok".*"event":"done"' "$out/progress"
+
+echo '{"S": 0.05, "phi": 0.4, "typo": 1}' > "$out/bad.json"
+"$run" --scene "$out/bad.json" --out "$out/c" 2> "$out/err"; rc=$?
+check "unknown scene key exits 2" test $rc -eq 2
+check "unknown scene key named" grep -q "typo" "$out/err"
+
+echo "$pass passed, $fail failed"
+test $fail -eq 0

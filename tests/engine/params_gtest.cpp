@@ -1,0 +1,84 @@
+// Scene parameters: derived quantities, validation messages naming the field, strict JSON.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "compaction/params.hpp"
+#include "compaction/params_json.hpp"
+
+namespace compaction {
+namespace {
+
+bool has_error(const std::vector<FieldError>& errors, const std::string& field) {
+  for (const auto& e : errors)
+    if (e.field == field) return true;
+  return false;
+}
+
+TEST(ParamsGtest, DerivedQuantitiesFollowFromSRAndPhi) {
+  SceneParams p;
+  p.S = 4e-3, p.R = 1e-5, p.phi = 0.4;
+  EXPECT_DOUBLE_EQ(p.youngs_modulus(), 250.0 / 1e-5);
+  EXPECT_DOUBLE_EQ(p.plate_speed(), 4e-3 * std::sqrt(2.5e7 / 1000.0));
+  // c_P / sqrt(E / rho) = sqrt((1 - nu) / ((1 + nu)(1 - 2 nu))) = 1.16024 at nu = 0.3
+  EXPECT_NEAR(p.p_wave_speed() / p.bar_wave_speed(), 1.1602387, 1e-7);
+  EXPECT_NEAR(p.hole_side(), (1.0 / 34) * std::sqrt(0.6), 1e-15);
+  EXPECT_DOUBLE_EQ(p.eps_final(), 0.6);
+  EXPECT_TRUE(validate(p).empty());
+}
+
+TEST(ParamsGtest, OutOfRangeValuesAreRejectedWithTheirField) {
+  SceneParams p;
+  p.phi = 0.9, p.S = 0.0, p.R = 1.5, p.cells_per_unit = 1, p.threads = 0;
+  const auto e = validate(p);
+  for (const char* f : {"phi", "S", "R", "cells_per_unit", "threads"}) {
+    EXPECT_TRUE(has_error(e, f)) << f;
+  }
+  p = SceneParams{};
+  p.S = std::nan("");
+  ASSERT_TRUE(has_error(validate(p), "S"));
+  EXPECT_NE(validate(p)[0].message.find("got nan"), std::string::npos);
+}
+
+TEST(ParamsGtest, TooCoarseGridForTheStructureIsRejected) {
+  SceneParams p;
+  p.phi = 0.8, p.cells_per_unit = 3;  // strut = L (1 - sqrt(0.2)) = 0.55 L = 1.7 cells: ok
+  EXPECT_TRUE(validate(p).empty());
+  p.phi = 0.25, p.cells_per_unit = 4;  // strut = 0.134 L = 0.54 cells: unresolved
+  EXPECT_TRUE(has_error(validate(p), "cells_per_unit"));
+}
+
+TEST(ParamsGtest, SolidColumnNeedsAnExplicitEndStrain) {
+  SceneParams p;
+  p.phi = 1.0;
+  EXPECT_TRUE(has_error(validate(p), "eps_end"));
+  p.eps_end = 0.01;
+  EXPECT_TRUE(validate(p).empty());
+}
+
+TEST(ParamsGtest, JsonRoundTripKeepsEveryField) {
+  SceneParams p;
+  p.S = 0.02, p.R = 3e-4, p.phi = 0.55, p.geometry = Geometry::full2d, p.n_cols = 5;
+  p.transfer = Transfer::pic_flip, p.contact = PlateContact::unilateral, p.seed = 77;
+  p.snapshot_eps = {0.1, 0.3};
+  SceneParams q;
+  ASSERT_TRUE(from_json(to_json(p), q).empty());
+  EXPECT_EQ(to_json(q), to_json(p));
+}
+
+TEST(ParamsGtest, JsonReadingIsStrict) {
+  SceneParams p;
+  auto e = from_json(nlohmann::json::parse(R"({"S": "fast", "phii": 0.4, "n_rows": 3.5})"), p);
+  EXPECT_TRUE(has_error(e, "S"));
+  EXPECT_TRUE(has_error(e, "phii"));
+  EXPECT_TRUE(has_error(e, "n_rows"));
+  e = from_json(nlohmann::json::parse(R"({"geometry": "3d"})"), p);
+  ASSERT_TRUE(has_error(e, "geometry"));
+  e = from_json(nlohmann::json::parse(R"([1, 2])"), p);
+  EXPECT_EQ(e.size(), 1u);
+  e = from_json(nlohmann::json::parse(R"({"phi": 0.95})"), p);
+  EXPECT_TRUE(has_error(e, "phi"));
+}
+
+}  // namespace
+}  // namespace compaction
