@@ -1,0 +1,5 @@
+#!/bin/sh
+# A runner that crashes like a segfaulting engine would: used to check that a crash is isolated
+# in the worker's child process, reported with its reason, and retried until max_attempts.
+echo '{"event":"start","n_particles":1,"eps_end":0.03}'
+kill -SEGV $$
