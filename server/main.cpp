@@ -26,7 +26,14 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::from_str(options->log_level));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ server: %v");
 
-  // Signals go to a dedicated thread (sigwait), never into the middle of a handler.
+  // Signals go to a dedicated thread (sigwait), never into the middle of a handler. A handler
+  // is installed first: a signal ignored at start (a background job of a script) would
+  // otherwise be discarded instead of waiting for sigwait.
+  struct sigaction sa {};
+  sa.sa_handler = [](int) {};
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
