@@ -9,7 +9,7 @@ rows = {}
 for b in data["benchmarks"]:
     if b.get("aggregate_name") != "median":
         continue
-    rows[b["run_name"].replace("BM_", "")] = b
+    rows[b["run_name"].replace("BM_", "").replace("/iterations:1", "")] = b
 
 print("# Engine benchmark: reference scene\n")
 print("pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, S = 4e-3, "

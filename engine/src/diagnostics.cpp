@@ -41,6 +41,7 @@ void FrameRecorder::record(State& s, double eps_begin, double eps_end, RunResult
   double kinetic = 0.0, max_v2 = 0.0;
   std::size_t plastic = 0;
   for (std::size_t k = 0; k < P.n; ++k) {
+    P.ep[k] += P.dep[k];
     const double v2 = P.vx[k] * P.vx[k] + P.vy[k] * P.vy[k];
     kinetic += v2;
     max_v2 = std::max(max_v2, v2);

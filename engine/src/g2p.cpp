@@ -30,24 +30,28 @@ StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begi
   for (std::size_t p = begin; p < end; ++p) {
     const auto kx = kernel::quadratic(P.x[p] * inv_dx + g.gx);
     const auto ky = kernel::quadratic(P.y[p] * inv_dx + g.gy);
+    // B = sum_ab wx_a wy_b v_ab (dx_a, dy_b)^T, summed row by row with the x-weights
+    // (and x-weighted offsets) applied first.
+    const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
+                           kx.w[2] * (2 - kx.fx) * dx};
     double vx = 0, vy = 0, bxx = 0, bxy = 0, byx = 0, byy = 0, ox = 0, oy = 0;
     for (int b = 0; b < 3; ++b) {
-      const double dy = (b - ky.fx) * dx;
+      const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
       const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
+      double sx = 0, sy = 0, sdx = 0, sdy = 0;
       for (int a = 0; a < 3; ++a) {
-        const double w = kx.w[a] * ky.w[b];
-        const double dxa = (a - kx.fx) * dx;
         const std::size_t i = row + col[kx.base + 1 + a];
         const Node& n = nodes[i];
-        const double wvx = w * n.vx, wvy = w * n.vy;
-        vx += wvx, vy += wvy;
-        bxx += wvx * dxa, bxy += wvx * dy;
-        byx += wvy * dxa, byy += wvy * dy;
+        sx += kx.w[a] * n.vx, sy += kx.w[a] * n.vy;
+        sdx += wdx[a] * n.vx, sdy += wdx[a] * n.vy;
         if constexpr (!kApic) {
-          ox += w * g.arrays.mx[i];
-          oy += w * g.arrays.my[i];
+          ox += kx.w[a] * wy * g.arrays.mx[i];
+          oy += kx.w[a] * wy * g.arrays.my[i];
         }
       }
+      vx += wy * sx, vy += wy * sy;
+      bxx += wy * sdx, bxy += wdy * sx;
+      byx += wy * sdy, byy += wdy * sy;
     }
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
     P.C[p] = c;
@@ -70,8 +74,7 @@ StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begi
     f.yy += dt * (c.yx * f0.xy + c.yy * f0.yy);
     const double plastic = return_map(f, s.material, P.tau[p]);
     if (std::isnan(plastic)) m.bad_jacobian = true;
-    P.dep[p] += plastic;
-    P.ep[p] += plastic;
+    P.dep[p] += plastic;  // ep, the running total, is updated once per frame
 
     const double v2 = P.vx[p] * P.vx[p] + P.vy[p] * P.vy[p];
     m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks

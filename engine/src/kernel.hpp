@@ -17,9 +17,11 @@ struct Stencil1D {
   double dw[3]; // derivatives dN/dx in units of 1/dx (for tests; the MLS force does not need them)
 };
 
+// xg >= -0.5 always (ghost nodes and the stability checks keep particles there), so
+// floor(xg - 0.5) is a truncation of xg + 0.5 minus one: no libm call in the hot loops.
 inline Stencil1D quadratic(double xg) {
   Stencil1D s;
-  s.base = static_cast<int>(std::floor(xg - 0.5));
+  s.base = static_cast<int>(xg + 0.5) - 1;
   s.fx = xg - s.base;
   const double fx = s.fx;
   s.w[0] = 0.5 * (1.5 - fx) * (1.5 - fx);

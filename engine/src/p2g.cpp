@@ -42,21 +42,24 @@ void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
       q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
     }
     const double mvx = m * P.vx[p], mvy = m * P.vy[p];
+    // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
+    // offsets are formed once, each row then adds its y-part.
+    const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
+                           kx.w[2] * (2 - kx.fx) * dx};
     for (int b = 0; b < 3; ++b) {
-      const double dy = (b - ky.fx) * dx;
+      const double wy = ky.w[b], dy = (b - ky.fx) * dx;
       const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
-      const double qx = mvx + q.xy * dy, qy = mvy + q.yy * dy;
+      const double qx = wy * (mvx + q.xy * dy), qy = wy * (mvy + q.yy * dy);
+      const double wm = wy * m, qxx = wy * q.xx, qyx = wy * q.yx;
       for (int a = 0; a < 3; ++a) {
-        const double w = kx.w[a] * ky.w[b];
-        const double dxa = (a - kx.fx) * dx;
         const std::size_t i = row + col[kx.base + 1 + a];
         Node& n = nodes[i];
-        n.m += w * m;
-        n.vx += w * (qx + q.xx * dxa);
-        n.vy += w * (qy + q.yx * dxa);
+        n.m += kx.w[a] * wm;
+        n.vx += kx.w[a] * qx + wdx[a] * qxx;
+        n.vy += kx.w[a] * qy + wdx[a] * qyx;
         if constexpr (!kApic) {
-          out.mx[i] += w * mvx;
-          out.my[i] += w * mvy;
+          out.mx[i] += kx.w[a] * wy * mvx;
+          out.my[i] += kx.w[a] * wy * mvy;
         }
       }
     }

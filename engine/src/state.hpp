@@ -23,7 +23,7 @@ struct Particles {
   std::vector<Mat2> Fe;         // elastic deformation gradient (double: strain steps ~1e-7)
   std::vector<Sym2> tau;        // Kirchhoff stress                          [N/m]
   std::vector<double> dep;      // plastic strain accumulated in the current frame
-  std::vector<double> ep;       // plastic strain accumulated since the start
+  std::vector<double> ep;       // plastic strain accumulated up to the last frame
   std::vector<double> x0;       // initial position x, for strut deflections [m]
   std::vector<std::int32_t> strut;  // vertical strut id, -1 when not in a strut
   std::vector<std::uint8_t> strut_mid;  // 1: middle half of the strut, 0: its ends

@@ -1,0 +1,109 @@
+// The paper's non-reflecting band (class a: S = 4e-3, R = 1e-5, phi = 0.4, pseudo-1D) at a
+// resolution a test can afford (16 cells per unit cell, to eps = 0.15).
+//
+// What must hold at any resolution, and is checked here:
+// - one front leaves the top plate and moves down steadily;
+// - mass conservation across the front: c_b / V = 1 / (1 - phi / phi_f), with phi_f the solid
+//   fraction behind it, so c_b / V >= 1 / (1 - phi) (phi_f <= 1), and the measured speed agrees
+//   with the one predicted from the measured phi_f;
+// - volume consistency of the compacted zone: the particles' area sum J V0 never exceeds the
+//   zone's area (pores closed, not particles overlapping), and J stays ~1 (the solid is
+//   elastically stiff, R = 1e-5, and plastically incompressible).
+// The paper's c_b / V = 1 / (1 - phi) needs phi_f = 1 behind the front. At this resolution the
+// pores keep about 2.5 grid cells of gap (single-velocity-field contact engages early), so
+// phi_f < 1 and c_b / V is larger (docs/engine.md, "Known limitation"); the test records the
+// ratio as a property and does not pretend otherwise.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "compaction/simulation.hpp"
+
+namespace compaction {
+namespace {
+
+struct Band {
+  std::vector<double> eps, front;  // front height / h0 per frame
+};
+
+// The front in each frame: the lowest row whose plastic strain rate reaches 20 % of the frame's
+// largest (rows above the plate hold 0).
+Band track_front(const RunResult& r) {
+  Band b;
+  const SpaceTimeMap& m = r.spacetime;
+  for (int f = 0; f < m.n_frames; ++f) {
+    float peak = 0;
+    for (int row = 0; row < m.n_rows; ++row) peak = std::max(peak, m.at(f, row));
+    int lowest = m.n_rows - 1;
+    for (int row = 0; row < m.n_rows; ++row) {
+      if (m.at(f, row) >= 0.2f * peak) {
+        lowest = row;
+        break;
+      }
+    }
+    b.eps.push_back(r.frames[f].eps);
+    b.front.push_back((lowest + 0.5) / m.n_rows);
+  }
+  return b;
+}
+
+// Least-squares slope of y(x) over the points with x >= x0.
+double slope(const std::vector<double>& x, const std::vector<double>& y, double x0) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (x[i] < x0) continue;
+    n += 1, sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+TEST(CompactionBandGtest, NonReflectingBandConservesMassAndClosesPoresWithoutOverlap) {
+  SceneParams p;
+  p.S = 4e-3, p.R = 1e-5, p.phi = 0.4;
+  p.cells_per_unit = 16;
+  p.eps_end = 0.15;
+  p.snapshot_eps = {0.12};
+  const RunResult r = run_scene(p);
+  ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+
+  // One front from the top plate, moving down through the specimen.
+  const Band band = track_front(r);
+  EXPECT_GT(band.front[2], 0.9);  // starts at the top plate
+  int rises = 0;
+  for (std::size_t f = 1; f < band.front.size(); ++f) rises += band.front[f] > band.front[f - 1] + 0.02;
+  EXPECT_EQ(rises, 0) << "the front must not jump back up (no reflection before eps = 0.15)";
+  const double cb = -slope(band.eps, band.front, 0.03);  // c_b / V = -(1/h0) d y_front / d eps
+  const double bound = 1.0 / (1.0 - r.phi_discrete);
+  RecordProperty("band_speed_ratio", std::to_string(cb));
+  RecordProperty("band_speed_over_paper", std::to_string(cb / (1.0 / (1.0 - p.phi))));
+  EXPECT_GE(cb, 0.97 * bound) << "slower than full densification allows";
+
+  // The compacted zone at the snapshot: from one unit cell behind the front to one below the
+  // plate. Its solid fraction phi_f predicts the band speed by mass conservation.
+  const Snapshot& s = r.snapshots.at(0);
+  const double L = p.unit_cell(), dx = r.dx, v0 = std::pow(dx / p.particles_per_cell, 2);
+  const std::size_t frame = static_cast<std::size_t>(std::lround(s.eps / p.d_eps)) - 1;
+  const double lo = band.front[frame] * p.h0 + L, hi = p.h0 * (1.0 - s.eps) - L;
+  ASSERT_GT(hi - lo, 2 * L);
+  double area = 0, j_min = 2, j_max = 0;
+  for (std::size_t k = 0; k < s.x.size(); ++k) {
+    if (s.y[k] < lo || s.y[k] >= hi) continue;
+    area += s.jacobian[k] * v0;
+    j_min = std::min<double>(j_min, s.jacobian[k]);
+    j_max = std::max<double>(j_max, s.jacobian[k]);
+  }
+  const double phi_f = area / ((hi - lo) * p.width());
+  RecordProperty("phi_behind_front", std::to_string(phi_f));
+  // No overlap: tolerance 1 %, the zone's edges cut through particles of spacing dx/2.
+  EXPECT_LE(phi_f, 1.01);
+  EXPECT_GT(j_min, 0.99);
+  EXPECT_LT(j_max, 1.01);
+  // Mass conservation across the front, with phi_f varying behind it: within 15 %.
+  const double predicted = 1.0 / (1.0 - r.phi_discrete / phi_f);
+  RecordProperty("band_speed_from_mass_conservation", std::to_string(predicted));
+  EXPECT_NEAR(cb / predicted, 1.0, 0.15);
+}
+
+}  // namespace
+}  // namespace compaction
