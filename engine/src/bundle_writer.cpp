@@ -56,11 +56,12 @@ void write_spacetime_png(const fs::path& path, const SpaceTimeMap& m) {
 
 void write_snapshot_png(const fs::path& path, const SceneParams& p, const RunResult& r,
                         const Snapshot& s) {
-  // Pseudo-1D shows four periods side by side so that the structure reads as a structure.
-  const int copies = p.geometry == Geometry::pseudo1d ? 4 : 1;
+  // Pseudo-1D shows eight periods side by side so that the structure reads as a structure.
+  const int copies = p.geometry == Geometry::pseudo1d ? 8 : 1;
   const double width = p.width() * copies;
-  const double px_per_m = 700.0 / p.h0;
-  Image img(std::max(1, static_cast<int>(width * px_per_m)), 700, {255, 255, 255});
+  const int height = 1400;
+  const double px_per_m = height / p.h0;
+  Image img(std::max(1, static_cast<int>(width * px_per_m)), height, {255, 255, 255});
   const double spacing = r.dx / p.particles_per_cell;
   const int dot = std::max(1, static_cast<int>(std::ceil(spacing * px_per_m)));
   const double scale = colour_scale(s.strain_rate);
