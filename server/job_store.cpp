@@ -417,6 +417,13 @@ LeaseCheck missing_or_lost(sqlite::Database& db, std::int64_t job_id) {
 }
 }  // namespace
 
+LeaseCheck JobStore::check_lease(std::int64_t job_id, const std::string& token) {
+  std::lock_guard lock(mutex_);
+  auto s = db_.prepare("SELECT 1 FROM jobs WHERE id = ? AND state = 'running' AND lease_token = ?");
+  s.bind(1, job_id).bind(2, token);
+  return s.step() ? LeaseCheck::ok : missing_or_lost(db_, job_id);
+}
+
 LeaseCheck JobStore::heartbeat(std::int64_t job_id, const std::string& token, double eps,
                                Millis now, Millis& deadline) {
   std::lock_guard lock(mutex_);

@@ -127,6 +127,9 @@ class JobStore {
                    bool retryable, Millis now);
   // The worker gives the job back (it is stopping): queued at once, the attempt not counted.
   LeaseCheck release(std::int64_t job_id, const std::string& token, Millis now);
+  // Whether token is the live lease of the job now (a cheap check before reading an upload;
+  // complete() checks again inside its transaction).
+  LeaseCheck check_lease(std::int64_t job_id, const std::string& token);
   // The lease rescuer: running jobs whose deadline passed go back to the queue (or to failed
   // when their attempts are used up). Returns the number of jobs moved.
   int requeue_expired(Millis now);

@@ -85,6 +85,7 @@ void register_queue_routes(httplib::Server& server, App& app) {
                 if (!req.has_file("lease_token")) throw ApiError(422, "lease_token", "is required");
                 if (!req.has_file("summary")) throw ApiError(422, "summary", "is required");
                 const std::string token = req.get_file_value("lease_token").content;
+                check_lease(app.store.check_lease(id, token));
                 const auto job = app.store.job_scene(id);
                 if (!job) throw ApiError(404, "id", "no such job");
                 std::vector<UploadedFile> files;
