@@ -1,0 +1,62 @@
+// The REST API of compaction-server (/api/v1, see server/openapi.yaml), as small async functions.
+// Reading needs no token; creating and cancelling sweeps send the submit token when one is stored.
+
+const BASE = '/api/v1';
+const TOKEN_KEY = 'compaction.submitToken';
+
+export class ApiError extends Error {
+  // status: HTTP status; field/message/details: the server's {"error": {...}} body.
+  constructor(status, body) {
+    const e = (body && body.error) || {};
+    super(e.message || `HTTP ${status}`);
+    this.status = status;
+    this.field = e.field || '';
+    this.details = e.details || (e.field !== undefined ? [{ field: e.field, message: e.message }] : []);
+  }
+}
+
+export function submitToken() {
+  try { return localStorage.getItem(TOKEN_KEY) || ''; } catch { return ''; }
+}
+export function setSubmitToken(t) {
+  try { t ? localStorage.setItem(TOKEN_KEY, t) : localStorage.removeItem(TOKEN_KEY); } catch { /* private mode */ }
+}
+
+async function request(method, path, body) {
+  const headers = {};
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const token = submitToken();
+  if (method !== 'GET' && token) headers.Authorization = `Bearer ${token}`;
+  const res = await fetch(BASE + path, {
+    method, headers, body: body === undefined ? undefined : JSON.stringify(body), cache: 'no-store',
+  });
+  const text = await res.text();
+  let json = null;
+  try { json = text ? JSON.parse(text) : null; } catch { json = null; }
+  if (!res.ok) throw new ApiError(res.status, json);
+  return json;
+}
+
+export const api = {
+  health: () => request('GET', '/health'),
+  presets: () => request('GET', '/presets'),
+  phaseMap: (phi, sweep) =>
+    request('GET', `/phase-map?phi=${encodeURIComponent(phi)}${sweep ? `&sweep=${sweep}` : ''}`),
+  sweeps: (limit = 200) => request('GET', `/sweeps?limit=${limit}`),
+  sweep: (id) => request('GET', `/sweeps/${id}`),
+  createSweep: (body) => request('POST', '/sweeps', body),
+  cancelSweep: (id) => request('POST', `/sweeps/${id}/cancel`),
+  job: (id) => request('GET', `/jobs/${id}`),
+  jobs: (query) => request('GET', `/jobs?${new URLSearchParams(query)}`),
+  artifacts: (id) => request('GET', `/jobs/${id}/artifacts`),
+  exportUrl: (id, format) => `${BASE}/sweeps/${id}/export?format=${format}`,
+  artifactUrl: (id, name) => `${BASE}/jobs/${id}/artifacts/${encodeURIComponent(name)}`,
+};
+
+// Fetches an artifact as an ArrayBuffer (null when the job has no such file).
+export async function fetchArtifact(id, name, as = 'arrayBuffer') {
+  const res = await fetch(api.artifactUrl(id, name), { cache: 'no-store' });
+  if (res.status === 404) return null;
+  if (!res.ok) throw new ApiError(res.status, null);
+  return as === 'text' ? res.text() : res.arrayBuffer();
+}

@@ -1,0 +1,101 @@
+// The six pattern classes (Blatny et al., PRL 128, 228002, 2022), their fixed colour-blind-safe
+// colours (Okabe-Ito) and marker shapes, and the looks of points that carry no label yet.
+
+export const CLASSES = {
+  a: { name: 'non-reflecting band', color: '#0072B2', shape: 'circle' },
+  b: { name: 'reflecting band', color: '#56B4E9', shape: 'square' },
+  c: { name: 'crossing bands', color: '#009E73', shape: 'diamond' },
+  d: { name: 'erratic', color: '#E69F00', shape: 'triangle' },
+  e: { name: 'explosive compaction', color: '#D55E00', shape: 'triangleDown' },
+  f: { name: 'buckling', color: '#CC79A7', shape: 'hexagon' },
+};
+
+// Points without a class: what the job is doing, or why it has no label.
+export const STATES = {
+  unclassified: { name: 'done, unclassified', color: '#8a8f98', shape: 'circle', note: 'succeeded; the classifier gave no label' },
+  unstable: { name: 'unstable', color: '#3d3d3d', shape: 'bang', note: 'numerically unstable run (a result, flagged)' },
+  running: { name: 'running', color: '#1d2433', shape: 'ring', note: 'leased by a worker; the arc shows progress' },
+  queued: { name: 'queued', color: '#9aa0a8', shape: 'hollow', note: 'waiting for a worker' },
+  failed: { name: 'failed', color: '#1d2433', shape: 'cross', note: 'failed after its attempts' },
+  cancelled: { name: 'cancelled', color: '#b8bcc2', shape: 'dash', note: 'cancelled' },
+};
+
+// The category a phase-map point is drawn as: a class letter, or one of STATES.
+export function category(p) {
+  if (p.state === 'succeeded') {
+    if (p.status === 'unstable') return 'unstable';
+    return p.class && CLASSES[p.class] ? p.class : 'unclassified';
+  }
+  return STATES[p.state] ? p.state : 'queued';
+}
+
+export function look(cat) {
+  return CLASSES[cat] || STATES[cat] || STATES.queued;
+}
+
+export function label(cat) {
+  return CLASSES[cat] ? `${cat} · ${CLASSES[cat].name}` : look(cat).name;
+}
+
+// Draws one marker of a category centred at (x, y) with radius r on a 2D canvas context.
+export function drawMarker(ctx, cat, x, y, r, progress = 0) {
+  const lk = look(cat);
+  ctx.beginPath();
+  switch (lk.shape) {
+    case 'circle': ctx.arc(x, y, r, 0, 2 * Math.PI); break;
+    case 'square': ctx.rect(x - r * 0.88, y - r * 0.88, r * 1.76, r * 1.76); break;
+    case 'diamond': ctx.moveTo(x, y - r * 1.2); ctx.lineTo(x + r * 1.2, y); ctx.lineTo(x, y + r * 1.2); ctx.lineTo(x - r * 1.2, y); ctx.closePath(); break;
+    case 'triangle': ctx.moveTo(x, y - r * 1.2); ctx.lineTo(x + r * 1.1, y + r * 0.8); ctx.lineTo(x - r * 1.1, y + r * 0.8); ctx.closePath(); break;
+    case 'triangleDown': ctx.moveTo(x, y + r * 1.2); ctx.lineTo(x + r * 1.1, y - r * 0.8); ctx.lineTo(x - r * 1.1, y - r * 0.8); ctx.closePath(); break;
+    case 'hexagon':
+      for (let k = 0; k < 6; k++) {
+        const a = Math.PI / 6 + (k * Math.PI) / 3;
+        k ? ctx.lineTo(x + r * 1.1 * Math.cos(a), y + r * 1.1 * Math.sin(a)) : ctx.moveTo(x + r * 1.1 * Math.cos(a), y + r * 1.1 * Math.sin(a));
+      }
+      ctx.closePath(); break;
+    case 'hollow':
+      ctx.arc(x, y, r * 0.8, 0, 2 * Math.PI);
+      ctx.fillStyle = '#ffffff'; ctx.fill();
+      ctx.setLineDash([2, 2]); ctx.lineWidth = 1.4; ctx.strokeStyle = lk.color; ctx.stroke(); ctx.setLineDash([]);
+      return;
+    case 'ring':
+      ctx.arc(x, y, r * 0.85, 0, 2 * Math.PI);
+      ctx.fillStyle = '#ffffff'; ctx.fill();
+      ctx.lineWidth = 1.2; ctx.strokeStyle = '#9aa0a8'; ctx.stroke();
+      ctx.beginPath();
+      ctx.arc(x, y, r * 0.85, -Math.PI / 2, -Math.PI / 2 + 2 * Math.PI * Math.max(0.08, Math.min(1, progress)));
+      ctx.lineWidth = 2.6; ctx.strokeStyle = lk.color; ctx.stroke();
+      return;
+    case 'cross':
+      ctx.moveTo(x - r, y - r); ctx.lineTo(x + r, y + r); ctx.moveTo(x + r, y - r); ctx.lineTo(x - r, y + r);
+      ctx.lineWidth = 2.4; ctx.strokeStyle = lk.color; ctx.stroke();
+      return;
+    case 'dash':
+      ctx.moveTo(x - r, y); ctx.lineTo(x + r, y); ctx.lineWidth = 2; ctx.strokeStyle = lk.color; ctx.stroke();
+      return;
+    case 'bang':
+      ctx.moveTo(x, y - r * 1.25); ctx.lineTo(x + r * 1.15, y + r * 0.9); ctx.lineTo(x - r * 1.15, y + r * 0.9); ctx.closePath();
+      ctx.fillStyle = '#ffffff'; ctx.fill(); ctx.lineWidth = 1.6; ctx.strokeStyle = lk.color; ctx.stroke();
+      ctx.beginPath(); ctx.moveTo(x, y - r * 0.45); ctx.lineTo(x, y + r * 0.2); ctx.moveTo(x, y + r * 0.45); ctx.lineTo(x, y + r * 0.55); ctx.stroke();
+      return;
+    default: ctx.arc(x, y, r, 0, 2 * Math.PI);
+  }
+  ctx.fillStyle = lk.color;
+  ctx.fill();
+  ctx.lineWidth = 1;
+  ctx.strokeStyle = 'rgba(255,255,255,0.9)';
+  ctx.stroke();
+}
+
+// A small canvas swatch for legends (HTML).
+export function swatch(cat, size = 16) {
+  const c = document.createElement('canvas');
+  const dpr = window.devicePixelRatio || 1;
+  c.width = size * dpr; c.height = size * dpr;
+  c.style.width = `${size}px`; c.style.height = `${size}px`;
+  c.className = 'swatch';
+  const ctx = c.getContext('2d');
+  ctx.scale(dpr, dpr);
+  drawMarker(ctx, cat, size / 2, size / 2, size * 0.32, 0.6);
+  return c;
+}

@@ -1,0 +1,222 @@
+// Sweeps: a form for a grid sweep over (S, R, phi) with the job count shown before submitting and
+// validation next to each field, and the list of sweeps with progress, cancel and export.
+import { api, submitToken, setSubmitToken } from '../api.js';
+import { validateSweep, formFieldOf } from '../sweepform.js';
+import { sweepPhis } from '../sweepmath.js';
+import { when, escapeHtml } from '../format.js';
+
+const POLL_MS = 2500;
+const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'preset', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
+
+export function mount(root) {
+  let alive = true, timer = null;
+  const field = (id, labelHtml, input, hint = '') => `
+    <div class="f" data-field="${id}">
+      <label for="f-${id}">${labelHtml}</label>${input}
+      ${hint ? `<div class="f-hint">${hint}</div>` : ''}
+      <div class="field-error" id="err-${id}" data-for="${id}" role="alert"></div>
+    </div>`;
+  const numIn = (id, value, extra = '') => `<input id="f-${id}" name="${id}" type="text" inputmode="decimal" value="${value}" autocomplete="off" ${extra}>`;
+  const scaleIn = (id) => `<select id="f-${id}" name="${id}"><option value="log" selected>log</option><option value="linear">linear</option></select>`;
+  root.innerHTML = `
+    <div class="page-head">
+      <h1>Sweeps</h1>
+      <p class="sub">A sweep is a grid over the Mach number <i>S</i>, the relative strength <i>R</i> and the solid fraction φ.
+        Each point becomes one job; a point already computed with the same numerics is reused, not run again.</p>
+    </div>
+    <div class="layout-sweeps">
+      <section class="card form-card">
+        <h2>New grid sweep</h2>
+        <form id="sweep-form" novalidate>
+          ${field('name', 'Name', '<input id="f-name" name="name" type="text" placeholder="e.g. phi 0.4 coarse map" autocomplete="off">')}
+          <fieldset><legend>Mach number <i>S</i> = <i>V</i>/√(<i>E</i>/ρ) <span class="unit">in (0, 1)</span></legend>
+            <div class="row4">${field('s-min', 'min', numIn('s-min', '1e-3'))}${field('s-max', 'max', numIn('s-max', '1e-1'))}${field('s-n', 'points', numIn('s-n', '5'))}${field('s-scale', 'spacing', scaleIn('s-scale'))}</div>
+          </fieldset>
+          <fieldset><legend>Relative strength <i>R</i> = <i>q</i><sub>y</sub>/<i>E</i> <span class="unit">in (0, 1)</span></legend>
+            <div class="row4">${field('r-min', 'min', numIn('r-min', '1e-5'))}${field('r-max', 'max', numIn('r-max', '1e-1'))}${field('r-n', 'points', numIn('r-n', '5'))}${field('r-scale', 'spacing', scaleIn('r-scale'))}</div>
+          </fieldset>
+          <div class="row2">
+            ${field('phi', 'Solid fraction φ', numIn('phi', '0.4'), 'one value or a list: 0.3, 0.4, 0.5')}
+            ${field('preset', 'Numerics preset', '<select id="f-preset" name="preset"><option value="fast">fast</option><option value="default" selected>default</option><option value="reference">reference</option></select>', '<span id="preset-note"></span>')}
+          </div>
+          <details class="advanced"><summary>Numerics over the preset, priority</summary>
+            <div class="row3">
+              ${field('cpu', 'cells per unit cell', numIn('cpu', '', 'placeholder="preset"'))}
+              ${field('eps-end', 'final strain ε<sub>end</sub>', numIn('eps-end', '', 'placeholder="fully dense"'))}
+              ${field('snapshots', 'snapshots at ε', numIn('snapshots', '', 'placeholder="0.2"'))}
+            </div>
+            <div class="row3">
+              ${field('priority', 'priority', numIn('priority', '0'), 'higher runs first')}
+              ${field('attempts', 'max attempts', numIn('attempts', '3'))}
+              <div></div>
+            </div>
+          </details>
+          <details class="advanced" id="token-box"><summary>Access</summary>
+            ${field('token', 'Submit token <span class="unit">only if the server was started with one; kept in this browser</span>', `<input id="f-token" name="token" type="password" autocomplete="off" value="${escapeHtml(submitToken())}">`)}
+          </details>
+          <div class="submit-row">
+            <div class="count" id="job-count" aria-live="polite"></div>
+            <button type="submit" id="submit-sweep" class="primary">Create sweep</button>
+          </div>
+          <div class="form-message" id="form-message" role="status"></div>
+        </form>
+      </section>
+      <section class="card list-card">
+        <h2>All sweeps</h2>
+        <div id="sweep-list"><p class="muted">loading…</p></div>
+      </section>
+    </div>`;
+  const $ = (x) => root.querySelector(`#${x}`);
+  const form = $('sweep-form');
+  const touched = new Set();
+  let submitted = false;
+
+  const values = () => ({
+    name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
+    rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
+    phi: $('f-phi').value, preset: $('f-preset').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
+    snapshots: $('f-snapshots').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
+  });
+
+  function showErrors(errors, all) {
+    for (const id of FIELDS.concat('token')) {
+      const msg = errors[id] && (all || touched.has(id)) ? errors[id] : '';
+      const el = $(`err-${id}`);
+      if (!el) continue;
+      el.textContent = msg;
+      el.closest('.f').classList.toggle('invalid', !!msg);
+      $(`f-${id}`)?.setAttribute('aria-invalid', msg ? 'true' : 'false');
+      if (msg && ['cpu', 'eps-end', 'snapshots', 'priority', 'attempts'].includes(id)) el.closest('details').open = true;
+    }
+  }
+
+  function update() {
+    const r = validateSweep(values());
+    showErrors(r.errors, submitted);
+    const [a, b, c] = r.dims;
+    const cnt = $('job-count');
+    cnt.dataset.count = String(r.count);
+    cnt.innerHTML = r.count > 0
+      ? `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'} <span class="muted">= ${a} S × ${b} R × ${c} φ</span>${r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : ''}`
+      : '<span class="muted">fix the ranges to see the number of jobs</span>';
+    return r;
+  }
+
+  form.addEventListener('input', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); $('form-message').textContent = ''; });
+  form.addEventListener('change', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); });
+  form.addEventListener('submit', async (ev) => {
+    ev.preventDefault();
+    submitted = true;
+    setSubmitToken($('f-token').value.trim());
+    const r = update();
+    const msg = $('form-message');
+    if (!r.ok) {
+      msg.className = 'form-message error';
+      msg.textContent = 'Please fix the fields marked in red.';
+      root.querySelector('.f.invalid input, .f.invalid select')?.focus();
+      return;
+    }
+    $('submit-sweep').disabled = true;
+    msg.className = 'form-message';
+    msg.textContent = 'submitting…';
+    try {
+      const sweep = await api.createSweep(r.body);
+      const phi = sweepPhis(sweep.request)[0];
+      msg.className = 'form-message ok';
+      msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed). <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
+      submitted = false;
+      touched.clear();
+      refresh();
+    } catch (e) {
+      msg.className = 'form-message error';
+      if (e.status === 401 || e.status === 403) {
+        $('token-box').open = true;
+        showErrors({ token: e.status === 401 ? 'this server needs a submit token' : 'the token was refused' }, true);
+        msg.textContent = `Not allowed (${e.status}): ${e.message}`;
+      } else if (e.details?.length) {
+        const errs = {};
+        const rest = [];
+        for (const d of e.details) {
+          const id = formFieldOf(d.field);
+          if (id && !errs[id]) errs[id] = d.message; else rest.push(`${d.field}: ${d.message}`);
+        }
+        showErrors(errs, true);
+        msg.textContent = `The server refused the sweep (${e.status})${rest.length ? `: ${rest.join('; ')}` : '; see the marked fields.'}`;
+      } else {
+        msg.textContent = `Could not create the sweep: ${e.message}`;
+      }
+    } finally {
+      $('submit-sweep').disabled = false;
+    }
+  });
+
+  api.presets().then((p) => {
+    if (!alive) return;
+    const sel = $('f-preset');
+    sel.replaceChildren(...p.presets.map((x) => new Option(`${x.name} (${x.cells_per_unit} cells/unit)`, x.name, false, x.name === p.default)));
+    sel.value = p.default;
+    const note = () => { $('preset-note').textContent = p.presets.find((x) => x.name === sel.value)?.description || ''; };
+    sel.addEventListener('change', note);
+    note();
+  }).catch(() => {});
+
+  function bar(c) {
+    const t = c.total || 1;
+    const seg = (k) => (c[k] ? `<span class="seg ${k}" style="width:${(100 * c[k]) / t}%" title="${c[k]} ${k}"></span>` : '');
+    return `<div class="progress" role="progressbar" aria-valuemin="0" aria-valuemax="${c.total}" aria-valuenow="${c.succeeded + c.failed + c.cancelled}">${seg('succeeded')}${seg('failed')}${seg('cancelled')}${seg('running')}</div>`;
+  }
+
+  async function refresh() {
+    clearTimeout(timer);
+    if (!alive) return;
+    try {
+      const { sweeps, total } = await api.sweeps(200);
+      if (!alive) return;
+      const list = $('sweep-list');
+      if (!sweeps.length) {
+        list.innerHTML = '<p class="muted">No sweeps yet. The form creates one.</p>';
+      } else {
+        list.innerHTML = `<table class="sweeps"><thead><tr><th>sweep</th><th>grid</th><th class="wide">progress</th><th></th></tr></thead><tbody>${sweeps.map((s) => {
+          const c = s.counts;
+          const phi = sweepPhis(s.request)[0] ?? 0.4;
+          const rq = s.request;
+          const grid = rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${sweepPhis(rq).length} φ`;
+          return `<tr data-sweep="${s.id}" class="sw-${s.state}">
+            <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}</div></td>
+            <td class="small">${grid}<div class="muted">φ = ${sweepPhis(rq).join(', ')}</div></td>
+            <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''} of ${c.total}</div></td>
+            <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
+              ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
+        }).join('')}</tbody></table>${total > sweeps.length ? `<p class="muted">showing the newest ${sweeps.length} of ${total}</p>` : ''}`;
+        list.querySelectorAll('button.cancel').forEach((b) => b.addEventListener('click', () => cancel(Number(b.dataset.id))));
+      }
+    } catch (e) {
+      $('sweep-list').innerHTML = `<p class="error">Could not load the sweeps: ${escapeHtml(e.message)}</p>`;
+    }
+    if (alive) timer = setTimeout(refresh, POLL_MS);
+  }
+
+  async function cancel(id) {
+    if (!confirm(`Cancel sweep #${id}? Its queued and running jobs that no other sweep needs are cancelled.`)) return;
+    try {
+      const r = await api.cancelSweep(id);
+      $('form-message').className = 'form-message ok';
+      $('form-message').textContent = `Sweep #${id} cancelled (${r.cancelled_jobs} jobs).`;
+    } catch (e) {
+      $('form-message').className = 'form-message error';
+      $('form-message').textContent = `Could not cancel sweep #${id}: ${e.message}${e.status === 401 || e.status === 403 ? ' (set the submit token under Access)' : ''}`;
+      if (e.status === 401 || e.status === 403) $('token-box').open = true;
+    }
+    refresh();
+  }
+
+  update();
+  refresh();
+  return () => { alive = false; clearTimeout(timer); };
+}
+
+function axisText(a) {
+  if (typeof a === 'number') return '1';
+  if (Array.isArray(a)) return String(a.length);
+  return a ? String(a.n) : '?';
+}
