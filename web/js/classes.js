@@ -15,7 +15,7 @@ export const STATES = {
   unclassified: { name: 'done, unclassified', color: '#8a8f98', shape: 'circle', note: 'succeeded; the classifier gave no label' },
   unstable: { name: 'unstable', color: '#3d3d3d', shape: 'bang', note: 'numerically unstable run (a result, flagged)' },
   running: { name: 'running', color: '#1d2433', shape: 'ring', note: 'leased by a worker; the arc shows progress' },
-  queued: { name: 'queued', color: '#9aa0a8', shape: 'hollow', note: 'waiting for a worker' },
+  queued: { name: 'queued', color: '#6b7280', shape: 'hollow', note: 'waiting for a worker' },
   failed: { name: 'failed', color: '#1d2433', shape: 'cross', note: 'failed after its attempts' },
   cancelled: { name: 'cancelled', color: '#b8bcc2', shape: 'dash', note: 'cancelled' },
 };
@@ -54,9 +54,9 @@ export function drawMarker(ctx, cat, x, y, r, progress = 0) {
       }
       ctx.closePath(); break;
     case 'hollow':
-      ctx.arc(x, y, r * 0.8, 0, 2 * Math.PI);
+      ctx.arc(x, y, r * 0.9, 0, 2 * Math.PI);
       ctx.fillStyle = '#ffffff'; ctx.fill();
-      ctx.setLineDash([2, 2]); ctx.lineWidth = 1.4; ctx.strokeStyle = lk.color; ctx.stroke(); ctx.setLineDash([]);
+      ctx.setLineDash([2.5, 2]); ctx.lineWidth = 1.6; ctx.strokeStyle = lk.color; ctx.stroke(); ctx.setLineDash([]);
       return;
     case 'ring':
       ctx.arc(x, y, r * 0.85, 0, 2 * Math.PI);

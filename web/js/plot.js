@@ -40,7 +40,7 @@ export function logTicks(lo, hi) {
   const a = Math.floor(Math.log10(lo) + 1e-9), b = Math.ceil(Math.log10(hi) - 1e-9);
   const major = [], minor = [];
   const every = b - a > 8 ? 2 : 1;
-  const few = b - a <= 1; // one decade: label 2 and 5 too
+  const few = Math.log10(hi / lo) < 2.5; // a short axis: label 2 and 5 too
   for (let e = a; e <= b; e++) {
     const v = 10 ** e;
     if (v >= lo * (1 - 1e-9) && v <= hi * (1 + 1e-9) && (e % every === 0)) major.push(v);
@@ -72,14 +72,16 @@ function setTickText(text, v, kind, step) {
   }
 }
 
-// Padded data range for a log axis, snapped to whole decades, at least `minDecades` wide.
+// Data range of a log axis padded by a fraction of a decade (ticks stay on whole decades),
+// at least `minDecades` wide; `fallback` when there is no positive value.
 export function logExtent(values, fallback, minDecades = 1) {
-  const v = values.filter((x) => x > 0 && Number.isFinite(x));
-  if (!v.length) return fallback;
-  let lo = Math.floor(Math.log10(Math.min(...v)) - 0.15);
-  let hi = Math.ceil(Math.log10(Math.max(...v)) + 0.15);
-  while (hi - lo < minDecades) { lo -= 0.5; hi += 0.5; }
-  return [10 ** Math.floor(lo), 10 ** Math.ceil(hi)];
+  let lo = Infinity, hi = -Infinity;
+  for (const x of values) if (x > 0 && Number.isFinite(x)) { if (x < lo) lo = x; if (x > hi) hi = x; }
+  if (!(lo <= hi)) return fallback;
+  let a = Math.log10(lo), b = Math.log10(hi);
+  if (b - a < minDecades) { const c = (a + b) / 2; a = c - minDecades / 2; b = c + minDecades / 2; }
+  const pad = Math.max(0.12, 0.04 * (b - a));
+  return [10 ** (a - pad), 10 ** (b + pad)];
 }
 
 export function linearExtent(values, fallback, pad = 0.05) {

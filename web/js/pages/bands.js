@@ -52,7 +52,7 @@ export function mount(root, params) {
     const c0 = nonReflectingSpeed(state.phi);
     const y = plot.y.map(c0);
     svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
-    svgEl('text', { x: plot.m.l + 8, y: y - 7, class: 'overlay-label' }, plot.front).textContent = `non-reflecting band 1/(1 − φ) = ${c0.toFixed(3)}`;
+    svgEl('text', { x: plot.m.l + plot.pw - 8, y: y + 16, 'text-anchor': 'end', class: 'overlay-label' }, plot.front).textContent = `non-reflecting band 1/(1 − φ) = ${c0.toFixed(3)}`;
     drawn = pts.map((p) => ({ p, x: plot.cx(stressRatio(p.S, p.R)), y: plot.cy(p.band_speed_ratio) }));
     const counts = {};
     for (const d of drawn) {

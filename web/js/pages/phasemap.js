@@ -141,6 +141,7 @@ export function mount(root, params) {
     // For the browser tests and the render benchmark (bench/dashboard).
     const hook = (window.__dashboard ||= { renders: [] });
     hook.renders.push(ms);
+    hook.renderedAt = performance.now();
     hook.phaseMap = {
       phi: state.phi, count: drawn.length, counts, renderMs: ms, radius: r,
       points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1] })),
@@ -183,7 +184,7 @@ export function mount(root, params) {
     for (const [k, s] of Object.entries(STATES)) item(k, s.name, s.note);
     const labelled = Object.keys(CLASSES).reduce((a, k) => a + (counts[k] || 0), 0);
     const pending = (counts.queued || 0) + (counts.running || 0);
-    $('map-summary').innerHTML = `<b>${total}</b> runs at φ = ${state.phi} · ${labelled} labelled · ${pending} pending`;
+    $('map-summary').innerHTML = `<b>${total.toLocaleString()}</b> runs at φ = ${state.phi} · ${labelled} labelled · ${pending} pending`;
   }
 
   function nearest(ev) {
