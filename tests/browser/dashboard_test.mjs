@@ -175,3 +175,34 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
     await h.close();
   }
 });
+
+test('with a submit token on the server, the form asks for it and then submits', { timeout: 90000 }, async () => {
+  const h = new Harness('token');
+  try {
+    await h.startServer(['--submit-token', 'sesame']);
+    const page = await h.browser();
+    await page.goto(`${h.url}/#/sweeps`);
+    await page.locator('#f-preset option[value="fast"]').waitFor({ state: 'attached' });
+    await fillForm(page, { name: 'token test', 's-n': '1', 'r-n': '1', preset: 'fast' });
+    await page.locator('#submit-sweep').click();
+    await waitFor(async () => /needs a submit token/.test(await page.locator('#err-token').innerText()), { what: 'the token error' });
+    assert.match(await page.locator('#form-message').innerText(), /Not allowed \(401\)/);
+    await page.locator('#f-token').fill('wrong');
+    await page.locator('#submit-sweep').click();
+    await waitFor(async () => /refused/.test(await page.locator('#err-token').innerText()), { what: 'the wrong-token error' });
+    await shot(page, '08-sweep-form-token');
+    await page.locator('#f-token').fill('sesame');
+    await page.locator('#submit-sweep').click();
+    await waitFor(async () => /Sweep #1 created with 1 jobs/.test(await page.locator('#form-message').innerText()), { what: 'the created message' });
+    assert.equal(await page.evaluate(() => localStorage.getItem('compaction.submitToken')), 'sesame', 'the token is kept in this browser');
+    assert.equal(await page.locator('#err-token').innerText(), '');
+    // Cancel from the list uses the stored token.
+    page.once('dialog', (d) => d.accept());
+    await page.locator('tr[data-sweep="1"] button.cancel').click();
+    await waitFor(async () => /Sweep #1 cancelled/.test(await page.locator('#form-message').innerText()), { what: 'the cancel message' });
+    await waitFor(async () => (await h.api('/sweeps/1')).json.state === 'cancelled', { what: 'sweep 1 cancelled on the server' });
+    assert.deepEqual(h.pageErrors.filter((e) => !/401|403/.test(e)), [], 'no errors in the page besides the refused requests');
+  } finally {
+    await h.close();
+  }
+});
