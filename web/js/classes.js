@@ -20,6 +20,12 @@ export const STATES = {
   cancelled: { name: 'cancelled', color: '#b8bcc2', shape: 'dash', note: 'cancelled' },
 };
 
+// Text colour readable on a class colour (dark on the light ones: b, d, f).
+export function inkOn(hex) {
+  const [r, g, b] = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16) / 255);
+  return 0.2126 * r + 0.7152 * g + 0.0722 * b > 0.45 ? '#1d2433' : '#ffffff';
+}
+
 // The category a phase-map point is drawn as: a class letter, or one of STATES.
 export function category(p) {
   if (p.state === 'succeeded') {

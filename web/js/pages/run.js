@@ -1,7 +1,7 @@
 // Run detail: what a run was asked (parameters), what happened to it (state, timings, worker,
 // events), what it produced (space-time map, plate stresses, snapshot) and how it was labelled.
 import { api, fetchArtifact } from '../api.js';
-import { CLASSES, category, label, look } from '../classes.js';
+import { CLASSES, category, inkOn, label, look } from '../classes.js';
 import { Plot, colormap, colorBar, linearExtent, svgEl } from '../plot.js';
 import { parseNpy } from '../npy.js';
 import { parseCsv } from '../csv.js';
@@ -65,7 +65,7 @@ export function mount(root, params) {
     const cat = category(p);
     const lk = look(cat);
     const badge = CLASSES[cat]
-      ? `<span class="badge cls" style="--c:${lk.color}">${escapeHtml(label(cat))}</span>`
+      ? `<span class="badge cls" style="--c:${lk.color};color:${inkOn(lk.color)}">${escapeHtml(label(cat))}</span>`
       : `<span class="badge state-${cat}">${escapeHtml(lk.name)}</span>`;
     $('run-title').innerHTML = `Run ${job.id} ${badge}`;
     const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
@@ -128,7 +128,7 @@ export function mount(root, params) {
     }
     const c = CLASSES[r.class];
     const conf = r.confidence ?? null;
-    let html = `<div class="class-main"><span class="class-letter" style="background:${c?.color || '#888'}">${escapeHtml(r.class)}</span>
+    let html = `<div class="class-main"><span class="class-letter" style="background:${c?.color || '#888'};color:${inkOn(c?.color || '#888888')}">${escapeHtml(r.class)}</span>
       <div><div class="class-name">${escapeHtml(c?.name || r.class)}</div>
       <div class="conf"><span class="conf-bar"><span style="width:${conf === null ? 0 : Math.round(conf * 100)}%;background:${c?.color || '#888'}"></span></span> confidence ${conf === null ? '—' : fixed(conf, 2)}</div>
       <div class="muted">runner-up: ${r.runner_up ? escapeHtml(label(r.runner_up)) : '—'}</div></div></div>`;
@@ -242,8 +242,8 @@ export function mount(root, params) {
     const clip = plot.clipRect();
     plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
     plot.line([0, ...eps], [0, ...top], { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
-    const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${plot.m.l + 12}, ${plot.m.t + 12})` }, plot.front);
-    svgEl('rect', { x: -6, y: -10, width: 134, height: 44, class: 'legend-box' }, lg);
+    const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${plot.m.l + plot.pw - 162}, ${plot.m.t + 14})` }, plot.front);
+    svgEl('rect', { x: -6, y: -10, width: 156, height: 44, class: 'legend-box' }, lg);
     [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].forEach(([k, t], i) => {
       svgEl('line', { x1: 0, x2: 20, y1: i * 18, y2: i * 18, class: `series ${k}` }, lg);
       svgEl('text', { x: 26, y: i * 18 + 4, class: 'legend-text' }, lg).textContent = t;
