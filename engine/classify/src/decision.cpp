@@ -1,0 +1,112 @@
+// The decision: soft rules on the features, one score per class.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "compaction/classify.hpp"
+
+namespace compaction::classify {
+
+namespace {
+
+// Smooth step from 0 to 1 around x0 with width w; NaN gives `missing`.
+double step(double x, double x0, double w, double missing = 0.0) {
+  if (!std::isfinite(x)) return missing;
+  return 1.0 / (1.0 + std::exp(-(x - x0) / w));
+}
+
+constexpr const char* kNames[6] = {"a", "b", "c", "d", "e", "f"};
+
+}  // namespace
+
+Classification decide(const Features& F, const DecisionSettings& s) {
+  Classification c;
+  c.features = F;
+  const double log_ratio = std::isfinite(F.stress_ratio) && F.stress_ratio > 0
+                               ? std::log10(F.stress_ratio) : std::numeric_limits<double>::quiet_NaN();
+  // Elementary evidence, each in [0, 1].
+  const double buckled = step(F.deflection_growth, s.buckling_growth, 0.2);
+  const double inertial = step(log_ratio, std::log10(s.inertial_ratio), 0.15);
+  // Organised: fronts carry the activity, and the most active row moves by less than a band
+  // could travel in a frame (erratic activity jumps between random rows).
+  const double erratic = step(F.peak_jump, s.erratic_jump, 0.3);
+  const double coherent = step(F.coherence, s.coherence, 0.07) * (1.0 - erratic);
+  const double equal = 1.0 - step(std::abs(log_ratio), s.equal_stress, 0.03, 1.0);
+  const bool from_top = F.primary_origin == "top";
+  const double single = from_top && !F.two_sided ? 1.0 : 0.0;
+  // A band reflects when it is seen to reflect, or when it must: it runs faster than the
+  // non-reflecting band (1 / (1 - phi)), or reaches the far plate before eps = 1 - phi, leaving
+  // pores open behind it (mass conservation, c_b / V = 1 / (1 - phi / phi_f)).
+  const double fast = step(F.speed_excess, s.reflecting_excess, 0.05, 0.5);
+  const double early = std::isfinite(F.arrival_eps) &&
+                               F.arrival_eps < (1.0 / F.nonreflecting_speed) / (1.0 + s.reflecting_excess)
+                           ? 0.9 : 0.0;
+  const double reflecting = std::max({F.n_reflections >= 1 ? 0.95 : 0.0, fast, early});
+  const double elastic_struts = 1.0 - buckled;
+  const double not_inertial = 1.0 - inertial;
+
+  auto& S = c.scores;
+  S[0] = elastic_struts * not_inertial * coherent * single * (1.0 - reflecting);
+  S[1] = elastic_struts * not_inertial * coherent * single * reflecting;
+  S[2] = elastic_struts * not_inertial * coherent * (F.two_sided ? 1.0 : 0.0);
+  S[3] = elastic_struts * not_inertial * (1.0 - step(F.coherence, s.coherence, 0.07, 1.0) * (1.0 - erratic)) *
+         (0.6 + 0.4 * equal);
+  S[4] = elastic_struts * inertial * (from_top ? 1.0 : 0.3) * (0.85 + 0.15 * F.undulation_share);
+  S[5] = buckled;
+
+  int best = 0, second = -1;
+  for (int i = 1; i < 6; ++i) if (S[i] > S[best]) best = i;
+  for (int i = 0; i < 6; ++i) if (i != best && (second < 0 || S[i] > S[second])) second = i;
+  if (S[best] < s.min_score) {
+    c.label = "unclassified";
+    c.confidence = 0.0;
+    c.runner_up = kNames[best];
+    return c;
+  }
+  c.label = kNames[best];
+  c.runner_up = kNames[second];
+  c.confidence = std::clamp(S[best] - S[second], 0.0, 1.0);
+  return c;
+}
+
+Classification classify(const SceneParams& p, const RunResult& r, const Settings& s) {
+  if (r.frames.size() < 5 || r.spacetime.n_frames != static_cast<int>(r.frames.size())) {
+    Classification c;
+    c.label = "unclassified";
+    return c;
+  }
+  FrontTracks tracks = track_fronts(r.spacetime, map_axes(p, r), s.features.tracker);
+  const Features F = compute_features(p, r, tracks, s.features);
+  Classification c = decide(F, s.decision);
+  c.tracks = std::move(tracks);
+  if (r.status != RunStatus::ok) {
+    c.label = "unclassified";
+    c.confidence = 0.0;
+  }
+  return c;
+}
+
+nlohmann::json to_json(const Classification& c) {
+  nlohmann::json feats = to_json(c.features);
+  nlohmann::json scores = nlohmann::json::object();
+  for (int i = 0; i < 6; ++i) scores[kNames[i]] = c.scores[i];
+  feats["scores"] = scores;
+  const double v = c.features.band_speed_ratio;
+  return {{"class", c.label},
+          {"confidence", c.confidence},
+          {"runner_up", c.runner_up.empty() ? nlohmann::json() : nlohmann::json(c.runner_up)},
+          {"n_reflections", c.features.n_reflections},
+          {"band_speed_ratio", std::isfinite(v) ? nlohmann::json(v) : nlohmann::json()},
+          {"features", feats}};
+}
+
+nlohmann::json summary_json_of(const Classification& c) {
+  nlohmann::json j = to_json(c);
+  if (c.label == "unclassified") {
+    j["class"] = nullptr;
+    j["features"]["label"] = "unclassified";
+  }
+  return j;
+}
+
+}  // namespace compaction::classify

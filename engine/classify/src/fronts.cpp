@@ -1,0 +1,284 @@
+// Front detection (active segments per frame) and tracking (segments linked over frames).
+#include "compaction/classify/fronts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace compaction::classify {
+
+const char* to_string(Origin o) {
+  switch (o) {
+    case Origin::top: return "top";
+    case Origin::bottom: return "bottom";
+    case Origin::interior: return "interior";
+  }
+  return "?";
+}
+
+double Front::mass() const {
+  double m = 0.0;
+  for (const auto& s : path) m += s.mass;
+  return m;
+}
+
+namespace {
+
+// Lengths of the tracker in units of h0, from the settings in unit cells.
+struct Scales {
+  double row = 0.0;        // row height / h0
+  double cell = 0.0;       // unit cell / h0
+  int smooth_rows = 0;     // half-width of the box filter
+  int merge_rows = 0;      // largest gap inside one segment
+  double link = 0.0, zone = 0.0, travel = 0.0, turn = 0.0, margin = 0.0, extent = 0.0;
+};
+
+Scales make_scales(const SpaceTimeMap& map, const MapAxes& axes, const TrackerSettings& s) {
+  Scales k;
+  k.row = map.row_height / axes.h0;
+  k.cell = axes.unit_cell / axes.h0;
+  const double rows_per_cell = axes.unit_cell / map.row_height;
+  k.smooth_rows = static_cast<int>(std::lround(s.smooth * rows_per_cell));
+  k.merge_rows = static_cast<int>(std::lround(s.merge_gap * rows_per_cell));
+  k.link = s.link_tol * k.cell;
+  k.zone = s.plate_zone * k.cell;
+  k.travel = s.min_travel * k.cell;
+  k.margin = s.fit_margin * k.cell;
+  k.turn = s.turn_travel * k.cell;
+  k.extent = s.max_extent;
+  return k;
+}
+
+// One frame's profile, box-filtered over +-w rows (plastic activity of one strut is spread over
+// the rows it spans; the filter keeps a strut's activity in one segment).
+std::vector<double> smoothed_profile(const SpaceTimeMap& map, int f, int w) {
+  std::vector<double> p(map.n_rows, 0.0);
+  for (int r = 0; r < map.n_rows; ++r) {
+    double sum = 0.0;
+    int n = 0;
+    for (int q = std::max(0, r - w); q <= std::min(map.n_rows - 1, r + w); ++q, ++n) {
+      sum += map.at(f, q);
+    }
+    p[r] = sum / n;
+  }
+  return p;
+}
+
+std::vector<Segment> detect_segments(const SpaceTimeMap& map, int f, double eps,
+                                     const Scales& k, const TrackerSettings& s) {
+  const std::vector<double> p = smoothed_profile(map, f, k.smooth_rows);
+  const double peak = *std::max_element(p.begin(), p.end());
+  std::vector<Segment> out;
+  if (!(peak > s.abs_threshold)) return out;
+  const double thr = std::max(s.rel_threshold * peak, s.abs_threshold);
+  int r = 0;
+  while (r < map.n_rows) {
+    if (p[r] <= thr) { ++r; continue; }
+    int end = r;  // last active row of this segment
+    int q = r + 1;
+    while (q < map.n_rows) {
+      if (p[q] > thr) { end = q; ++q; continue; }
+      if (q - end > k.merge_rows) break;
+      ++q;
+    }
+    Segment seg;
+    seg.frame = f;
+    seg.eps = eps;
+    seg.lo = r * k.row;
+    seg.hi = (end + 1) * k.row;
+    double wsum = 0.0, ysum = 0.0;
+    for (int i = r; i <= end; ++i) {
+      if (p[i] <= thr) continue;
+      wsum += p[i];
+      ysum += p[i] * (i + 0.5) * k.row;
+      seg.peak = std::max(seg.peak, p[i]);
+    }
+    seg.centroid = ysum / wsum;
+    seg.mass = wsum * k.row;
+    out.push_back(seg);
+    r = end + 1;
+  }
+  return out;
+}
+
+double top_of(double eps) { return 1.0 - eps; }  // the top plate's height / h0
+
+// A segment spanning much of the specimen is diffuse activity, not a front's position.
+bool diffuse(const Segment& g, const Scales& k) { return g.hi - g.lo > k.extent * top_of(g.eps); }
+
+// Where a segment touches: the top plate, the bottom plate or neither.
+Origin where(const Segment& g, const Scales& k) {
+  if (g.hi >= top_of(g.eps) - k.zone) return Origin::top;
+  if (g.lo <= k.zone) return Origin::bottom;
+  return Origin::interior;
+}
+
+// The last segment that is the front's own (not shared with a crossing front).
+const Segment& last_own(const Front& fr) {
+  for (auto it = fr.path.rbegin(); it != fr.path.rend(); ++it) {
+    if (!it->shared) return *it;
+  }
+  return fr.path.front();
+}
+
+// Velocity of a front's centroid in h0 per frame from its last few own segments; zero while it
+// sits at a plate, where it may turn.
+double velocity(const Front& fr, const Scales& k) {
+  std::vector<const Segment*> own;
+  for (auto it = fr.path.rbegin(); it != fr.path.rend() && own.size() < 4; ++it) {
+    if (!it->shared) own.push_back(&*it);
+  }
+  if (own.size() < 2 || where(*own.front(), k) != Origin::interior) return 0.0;
+  const Segment& a = *own.back();
+  const Segment& b = *own.front();
+  return (b.centroid - a.centroid) / std::max(1, b.frame - a.frame);
+}
+
+double gap(double lo1, double hi1, double lo2, double hi2) {
+  return std::max(0.0, std::max(lo1, lo2) - std::min(hi1, hi2));
+}
+
+// Reversals of the centroid by more than the travel threshold (hysteresis), each at its extreme.
+void find_turns(Front& fr, const Scales& k) {
+  const auto& p = fr.path;
+  int dir = 0;
+  std::size_t ext = 0;
+  const double c0 = p.front().centroid;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    if (diffuse(p[i], k) || p[i].shared) continue;
+    const double c = p[i].centroid;
+    fr.travel = std::max(fr.travel, std::abs(c - c0));
+    if (dir == 0) {
+      if (std::abs(c - c0) >= k.travel) { dir = c > c0 ? 1 : -1; ext = i; }
+      continue;
+    }
+    const double ce = p[ext].centroid;
+    if ((dir < 0 && c < ce) || (dir > 0 && c > ce)) { ext = i; continue; }
+    if (std::abs(c - ce) >= k.turn) {
+      TurningPoint t;
+      t.index = static_cast<int>(ext);
+      t.eps = p[ext].eps;
+      const Segment& g = p[ext];
+      if (dir < 0 && g.lo <= k.zone) t.where = Origin::bottom;
+      else if (dir > 0 && g.hi >= top_of(g.eps) - k.zone) t.where = Origin::top;
+      fr.turns.push_back(t);
+      if (t.where != Origin::interior) ++fr.n_reflections;
+      dir = -dir;
+      ext = i;
+    }
+  }
+}
+
+// Least-squares slope of the leading edge over the part before the first turn, away from both
+// plates. The leading edge is the lower edge of a front moving down, the upper edge of one
+// moving up.
+void fit_speed(Front& fr, const Scales& k) {
+  fr.speed = std::numeric_limits<double>::quiet_NaN();
+  const auto& p = fr.path;
+  const std::size_t last = fr.turns.empty() ? p.size() - 1 : fr.turns.front().index;
+  const bool down = p[last].centroid < p.front().centroid;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (std::size_t i = 0; i <= last; ++i) {
+    if (diffuse(p[i], k) || p[i].shared) continue;
+    const double y = down ? p[i].lo : p[i].hi;
+    if (y < k.margin || y > top_of(p[i].eps) - k.margin) continue;
+    sx += p[i].eps; sy += y; sxx += p[i].eps * p[i].eps; sxy += p[i].eps * y; ++n;
+  }
+  if (n < 3) return;
+  const double den = n * sxx - sx * sx;
+  if (!(den > 0)) return;
+  const double slope = (n * sxy - sx * sy) / den;  // h0 per unit imposed strain = speed / V
+  fr.speed = down ? -slope : slope;
+}
+
+}  // namespace
+
+FrontTracks track_fronts(const SpaceTimeMap& map, const MapAxes& axes, const TrackerSettings& s) {
+  if (static_cast<int>(axes.eps.size()) != map.n_frames) {
+    throw std::invalid_argument("track_fronts: " + std::to_string(axes.eps.size()) +
+                                " strains for " + std::to_string(map.n_frames) + " frames");
+  }
+  if (map.n_rows <= 0 || !(map.row_height > 0) || !(axes.unit_cell > 0) || !(axes.h0 > 0)) {
+    throw std::invalid_argument("track_fronts: empty map or non-positive lengths");
+  }
+  const Scales k = make_scales(map, axes, s);
+  FrontTracks out;
+  out.segments.resize(map.n_frames);
+  std::vector<int> last_seen;  // frame each front was last seen
+  for (int f = 0; f < map.n_frames; ++f) {
+    out.segments[f] = detect_segments(map, f, axes.eps[f], k, s);
+    const auto& segs = out.segments[f];
+    for (const auto& g : segs) out.total_mass += g.mass;
+
+    // Candidate links: live fronts whose predicted interval is within link_tol of a segment.
+    struct Pair { double key; int seg, front; };
+    std::vector<Pair> pairs;
+    for (int j = 0; j < static_cast<int>(out.fronts.size()); ++j) {
+      const int missing = f - last_seen[j];
+      if (missing > s.max_missing + 1) continue;
+      const Front& fr = out.fronts[j];
+      const Segment& b = last_own(fr);
+      const double shift = velocity(fr, k) * (f - b.frame);
+      const double lo = b.lo + shift, hi = b.hi + shift, c = b.centroid + shift;
+      for (int i = 0; i < static_cast<int>(segs.size()); ++i) {
+        if (gap(lo, hi, segs[i].lo, segs[i].hi) > k.link) continue;
+        pairs.push_back({std::abs(segs[i].centroid - c), i, j});
+      }
+    }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+      return a.key != b.key ? a.key < b.key : (a.front != b.front ? a.front < b.front : a.seg < b.seg);
+    });
+    std::vector<bool> seg_used(segs.size(), false), front_used(out.fronts.size(), false);
+    for (const auto& pr : pairs) {
+      if (seg_used[pr.seg] || front_used[pr.front]) continue;
+      seg_used[pr.seg] = front_used[pr.front] = true;
+      out.fronts[pr.front].path.push_back(segs[pr.seg]);
+      last_seen[pr.front] = f;
+    }
+    // A live front left without a segment whose predicted interval overlaps a taken segment
+    // has merged with another front (they cross): it shares that segment.
+    for (const auto& pr : pairs) {
+      if (front_used[pr.front] || !seg_used[pr.seg]) continue;
+      const Front& fr = out.fronts[pr.front];
+      const Segment& b = last_own(fr);
+      const double shift = velocity(fr, k) * (f - b.frame);
+      if (gap(b.lo + shift, b.hi + shift, segs[pr.seg].lo, segs[pr.seg].hi) > 0.0) continue;
+      Segment g = segs[pr.seg];
+      g.shared = true;
+      for (auto& other : out.fronts) {
+        if (!other.path.empty() && other.path.back().frame == f && other.path.back().lo == g.lo) {
+          other.path.back().shared = true;
+        }
+      }
+      out.fronts[pr.front].path.push_back(g);
+      front_used[pr.front] = true;
+      last_seen[pr.front] = f;
+    }
+    for (std::size_t i = 0; i < segs.size(); ++i) {
+      if (seg_used[i]) continue;
+      Front fr;
+      fr.origin = where(segs[i], k);
+      // A segment next to a front seen in this frame splits off it and shares its origin.
+      double nearest = k.link;
+      for (std::size_t j = 0; j < last_seen.size(); ++j) {
+        if (last_seen[j] != f) continue;
+        const Segment& b = out.fronts[j].path.back();
+        const double d = gap(b.lo, b.hi, segs[i].lo, segs[i].hi);
+        if (d <= nearest) { nearest = d; fr.origin = out.fronts[j].origin; }
+      }
+      fr.path.push_back(segs[i]);
+      out.fronts.push_back(fr);
+      last_seen.push_back(f);
+    }
+  }
+  for (auto& fr : out.fronts) {
+    find_turns(fr, k);
+    fr.propagating = fr.travel >= k.travel;
+    fit_speed(fr, k);
+  }
+  return out;
+}
+
+}  // namespace compaction::classify

@@ -1,0 +1,142 @@
+// The front tracker on synthetic space-time maps with analytic fronts.
+// Tolerances: positions are quantised to rows of 1/340 h0 and fitted over >= 0.1 of strain, so
+// a speed is exact to about 0.3 %; 2 % leaves room for the leading edge of a Gaussian band
+// being cut by the plate zone at the ends of the fit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "compaction/classify.hpp"
+#include "synthetic_map.hpp"
+
+namespace compaction::classify {
+namespace {
+
+using test::bump;
+using test::make_run;
+
+std::vector<const Front*> propagating(const FrontTracks& t) {
+  std::vector<const Front*> out;
+  for (const auto& f : t.fronts) if (f.propagating) out.push_back(&f);
+  return out;
+}
+
+FrontTracks track(const test::SyntheticRun& s) {
+  return track_fronts(s.result.spacetime, map_axes(s.params, s.result));
+}
+
+TEST(FrontTracker, SingleStraightFrontFromTheTopHasItsSpeedAndNoReflection) {
+  const double c = 2.0;  // c / V
+  const auto run = make_run(0.4, [&](double eps, double y) { return bump(y, 0.985 - c * eps); });
+  const FrontTracks t = track(run);
+  const auto fronts = propagating(t);
+  ASSERT_EQ(fronts.size(), 1u);
+  EXPECT_EQ(fronts[0]->origin, Origin::top);
+  EXPECT_NEAR(fronts[0]->speed, c, 0.02 * c);
+  EXPECT_EQ(fronts[0]->n_reflections, 0);
+  EXPECT_NEAR(fronts[0]->path.back().centroid, 0.985 - c * 0.4, 0.01);
+}
+
+TEST(FrontTracker, FrontFromTheBottomMovesUpWithPositiveSpeed) {
+  const double c = 1.5;
+  const auto run = make_run(0.3, [&](double eps, double y) { return bump(y, 0.015 + c * eps); });
+  const FrontTracks t = track(run);
+  const auto fronts = propagating(t);
+  ASSERT_EQ(fronts.size(), 1u);
+  EXPECT_EQ(fronts[0]->origin, Origin::bottom);
+  EXPECT_NEAR(fronts[0]->speed, c, 0.02 * c);
+}
+
+// Position of a band bouncing between the plates at speed c (the top plate moves at V).
+double bouncing(double eps, double c) {
+  double y = 0.985, dir = -1.0, e = 0.0;
+  const double de = 1e-5;
+  for (; e < eps; e += de) {
+    y += dir * c * de;
+    if (y <= 0.015) { y = 0.015; dir = 1.0; }
+    if (y >= 0.985 - e) { y = 0.985 - e; dir = -1.0; }
+  }
+  return y;
+}
+
+TEST(FrontTracker, ReflectingFrontCountsEachReflectionAtAPlate) {
+  const double c = 6.0;
+  // Down (eps 0-0.16), up to the top (meets it at ~0.30), down again to the bottom (~0.42),
+  // then up: reflections at the bottom, the top, the bottom.
+  const auto run = make_run(0.46, [&](double eps, double y) { return bump(y, bouncing(eps, c)); });
+  const FrontTracks t = track(run);
+  const auto fronts = propagating(t);
+  ASSERT_EQ(fronts.size(), 1u);
+  const Front& f = *fronts[0];
+  EXPECT_EQ(f.origin, Origin::top);
+  EXPECT_EQ(f.n_reflections, 3);
+  ASSERT_EQ(f.turns.size(), 3u);
+  EXPECT_EQ(f.turns[0].where, Origin::bottom);
+  EXPECT_EQ(f.turns[1].where, Origin::top);
+  EXPECT_EQ(f.turns[2].where, Origin::bottom);
+  EXPECT_NEAR(f.turns[0].eps, 0.97 / c, 0.006);  // three frames
+  EXPECT_NEAR(f.speed, c, 0.02 * c);  // before the first reflection
+}
+
+TEST(FrontTracker, TwoCrossingFrontsKeepTheirIdentityThroughTheCrossing) {
+  const double c_top = 3.0, c_bottom = 2.0;
+  const auto run = make_run(0.3, [&](double eps, double y) {
+    return bump(y, 0.985 - c_top * eps) + bump(y, 0.015 + c_bottom * eps);
+  });
+  const FrontTracks t = track(run);
+  const auto fronts = propagating(t);
+  ASSERT_EQ(fronts.size(), 2u);
+  const Front* top = fronts[0]->origin == Origin::top ? fronts[0] : fronts[1];
+  const Front* bottom = fronts[0]->origin == Origin::top ? fronts[1] : fronts[0];
+  ASSERT_EQ(top->origin, Origin::top);
+  ASSERT_EQ(bottom->origin, Origin::bottom);
+  EXPECT_NEAR(top->speed, c_top, 0.02 * c_top);
+  EXPECT_NEAR(bottom->speed, c_bottom, 0.02 * c_bottom);
+  EXPECT_EQ(top->n_reflections, 0);
+  EXPECT_EQ(bottom->n_reflections, 0);
+  // They cross at eps = 0.97 / 5 = 0.194; afterwards each goes on in its own direction.
+  EXPECT_LT(top->path.back().centroid, 0.985 - c_top * 0.25 + 0.02);
+  EXPECT_GT(bottom->path.back().centroid, 0.015 + c_bottom * 0.25 - 0.02);
+
+  const Features F = compute_features(run.params, run.result, t);
+  EXPECT_TRUE(F.two_sided);
+  EXPECT_EQ(F.n_fronts_onset, 2);
+  EXPECT_EQ(decide(F).label, "c");
+}
+
+TEST(FrontTracker, RandomBlobsAreNotFronts) {
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  // Each frame: three blobs at uniformly random heights, independent between frames.
+  const int frames = 100;
+  std::vector<std::array<double, 3>> where(frames);
+  for (auto& w : where) for (auto& y : w) y = 0.02 + 0.76 * u(rng);
+  const auto run = make_run(0.002 * frames, [&](double eps, double y) {
+    const auto& w = where[std::min(frames - 1, static_cast<int>(std::lround(eps / 0.002)) - 1)];
+    return bump(y, w[0]) + 0.8 * bump(y, w[1]) + 0.6 * bump(y, w[2]);
+  });
+  const FrontTracks t = track(run);
+  const Features F = compute_features(run.params, run.result, t);
+  // The most active row jumps by a third of the specimen on average: far above 2 cells.
+  EXPECT_GT(F.peak_jump, 2.0);
+  EXPECT_EQ(decide(F).label, "d");
+}
+
+TEST(FrontTracker, EmptyMapHasNoFrontAndIsUnclassified) {
+  const auto run = make_run(0.1, [](double, double) { return 0.0; });
+  const FrontTracks t = track(run);
+  EXPECT_TRUE(t.fronts.empty());
+  const Classification c = classify(run.params, run.result);
+  EXPECT_EQ(c.label, "unclassified");
+}
+
+TEST(FrontTracker, RejectsAxesThatDoNotMatchTheMap) {
+  auto run = make_run(0.1, [](double, double) { return 0.0; });
+  MapAxes a = map_axes(run.params, run.result);
+  a.eps.pop_back();
+  EXPECT_THROW(track_fronts(run.result.spacetime, a), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace compaction::classify
