@@ -265,7 +265,7 @@ export function mount(root, params) {
     const epsOf = (n) => Number(n.replace(/^snapshot_|\.png$/g, ''));
     pngs.sort((a, b) => Math.abs(epsOf(a.name) - 0.2) - Math.abs(epsOf(b.name) - 0.2));
     const show = (a) => `<figure><div class="snap-wrap"><img class="artifact-img" id="snap-img" alt="snapshot at eps ${epsOf(a.name)}" src="${a.url}"></div>
-      <figcaption>Particles coloured by plastic strain rate at ε = ${epsOf(a.name)}${summary.params?.geometry === 'pseudo1d' ? ' (pseudo-1D: four periods side by side)' : ''}.</figcaption></figure>`;
+      <figcaption>Particles coloured by plastic strain rate at ε = ${epsOf(a.name)}${summary.params?.geometry === 'pseudo1d' ? ' (pseudo-1D: eight periods side by side)' : ''}.</figcaption></figure>`;
     box.innerHTML = (pngs.length > 1 ? `<div class="tabs">${pngs.map((a, i) => `<button data-i="${i}" class="${i ? '' : 'on'}">ε = ${epsOf(a.name)}</button>`).join('')}</div>` : '') + `<div id="snap-one">${show(pngs[0])}</div>`;
     box.querySelectorAll('.tabs button').forEach((b) => b.addEventListener('click', () => {
       box.querySelectorAll('.tabs button').forEach((x) => x.classList.toggle('on', x === b));
