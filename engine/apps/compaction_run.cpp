@@ -6,10 +6,13 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "cli_args.hpp"
 #include "compaction/bundle.hpp"
+#include "compaction/classify.hpp"
 #include "compaction/simulation.hpp"
 
 namespace {
@@ -31,6 +34,34 @@ void draw_bar(const compaction::Progress& p) {
                filled, "##############################", width - filled, "", p.eps, p.eps_end,
                100.0 * f, static_cast<long long>(p.steps), p.wall_seconds, eta);
   std::fflush(stderr);
+}
+
+// Adds the classifier's verdict to the bundle's summary.json ("classification"; null for a run
+// that is not ok: no label). The file is replaced by rename, so a reader never sees it half
+// written and the bundle stays complete only once summary.json exists.
+void add_classification(const std::string& dir, const compaction::SceneParams& p,
+                        const compaction::RunResult& r) {
+  namespace fs = std::filesystem;
+  const fs::path path = fs::path(dir) / "summary.json";
+  nlohmann::json summary;
+  {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read " + path.string());
+    in >> summary;
+  }
+  if (r.status == compaction::RunStatus::ok) {
+    summary["classification"] =
+        compaction::classify::summary_json_of(compaction::classify::classify(p, r));
+  } else {
+    summary["classification"] = nullptr;
+  }
+  const fs::path tmp = fs::path(dir) / "summary.json.tmp";
+  {
+    std::ofstream out(tmp);
+    out << summary.dump(2) << '\n';
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
 }
 
 }  // namespace
@@ -103,6 +134,7 @@ int main(int argc, char** argv) {
     const RunResult r = run_scene(p, control);
     if (mode == cli::ProgressMode::bar) std::fputc('\n', stderr);
     write_bundle(opt.out_dir, p, r);
+    add_classification(opt.out_dir, p, r);
     log->info("done status={} steps={} particles={} wall={:.2f}s ns/particle-step={:.1f}{}{}",
               to_string(r.status), r.steps, r.n_particles, r.wall_seconds,
               r.ns_per_particle_step, r.reason.empty() ? "" : " reason=", r.reason);
