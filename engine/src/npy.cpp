@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <regex>
 #include <stdexcept>
 #include <string>
 
@@ -64,17 +63,23 @@ Array read(const std::filesystem::path& path) {
       header.find("'fortran_order': False") == std::string::npos) {
     throw std::runtime_error(path.string() + ": expected a C-order '<f4' array");
   }
-  std::smatch m;
-  if (!std::regex_search(header, m, std::regex(R"('shape': \(([0-9, ]*)\))"))) {
+  // The shape is a tuple of decimal integers: "'shape': (3, 4), " or "'shape': (3,), ".
+  const std::string key = "'shape': (";
+  const std::size_t open = header.find(key), close = header.find(')', open);
+  if (open == std::string::npos || close == std::string::npos) {
     throw std::runtime_error(path.string() + ": no shape in header");
   }
   Array a;
   std::size_t count = 1;
-  const std::string dims = m[1];
-  const std::regex number("[0-9]+");
-  for (std::sregex_iterator it(dims.begin(), dims.end(), number), end; it != end; ++it) {
-    a.shape.push_back(std::stoull(it->str()));
-    count *= a.shape.back();
+  for (std::size_t i = open + key.size(); i < close;) {
+    if (header[i] < '0' || header[i] > '9') {
+      ++i;
+      continue;
+    }
+    std::size_t value = 0;
+    for (; i < close && header[i] >= '0' && header[i] <= '9'; ++i) value = value * 10 + (header[i] - '0');
+    a.shape.push_back(value);
+    count *= value;
   }
   a.data.resize(count);
   in.read(reinterpret_cast<char*>(a.data.data()), static_cast<std::streamsize>(count * 4));
