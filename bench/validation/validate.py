@@ -1,0 +1,212 @@
+#!/usr/bin/python3
+"""Validation of engine + classifier against Blatny et al., PRL 128, 228002 (2022).
+
+Runs (one simulation at a time, results cached under --work):
+  examples    the paper's six examples at phi = 0.4, pseudo-1D
+  fig3        a line of >= 5 points through class (b): c_b/V and N_r vs q_y/(rho V^2) = R/S^2
+  full2d      examples (a) and (b) in full 2D (17 x 34 cells), c_b/V against pseudo-1D
+  resolution  the six examples at several resolutions
+and writes docs/validation.md with the space-time maps copied to docs/validation/.
+
+  bench/validation/validate.py --cells 8 --sections examples,resolution --resolutions 6,8,10
+  bench/validation/validate.py --cells 20 --eps-scale 1          # full strain, default grid
+
+Costs grow as cells^3 / S (class (d), S = 1.32e-3, is the slowest). --eps-scale shortens every
+run's final strain (1 = as in EXAMPLES). Runs that exist in --work are not repeated.
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+PHI = 0.4
+# class: (S, R, eps_end at eps-scale 1): long enough to show the pattern, not necessarily dense.
+EXAMPLES = {
+    "a": (4e-3, 1e-5, 0.3),
+    "b": (4e-3, 4e-4, 0.3),
+    "c": (4e-2, 2e-2, 0.3),
+    "d": (1.32e-3, 4e-3, 0.2),
+    "e": (1e-1, 1e-5, 0.3),
+    "f": (4e-3, 1e-1, 0.25),
+}
+# Fig. 3 line: S = 4e-3 fixed, R rising through class (b): R/S^2 = 1.6 (a) ... 62.5.
+FIG3_S = 4e-3
+FIG3_R = [1e-5, 4e-5, 1e-4, 2e-4, 4e-4, 1e-3]
+
+
+def run(args, name, S, R, cells, eps_end, geometry="pseudo1d"):
+    out = os.path.join(args.work, name)
+    summ = os.path.join(out, "summary.json")
+    if not os.path.exists(summ):
+        cmd = [args.run, "--S", str(S), "--R", str(R), "--phi", str(PHI), "--cells-per-unit",
+               str(cells), "--eps-end", str(eps_end), "--geometry", geometry, "--progress", "none",
+               "--snapshot-eps", str(min(0.2, eps_end)), "--out", out]
+        print("run", " ".join(cmd), file=sys.stderr, flush=True)
+        subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
+    cls = json.loads(subprocess.run([args.classify, "--compact", out], check=True,
+                                    capture_output=True, text=True).stdout)
+    s = json.load(open(summ))
+    return {"name": name, "dir": out, "S": S, "R": R, "cells": cells, "eps_end": eps_end,
+            "geometry": geometry, "wall": s["wall_seconds"], "phi_discrete": s["phi_discrete"],
+            "cls": cls}
+
+
+def fmt(v, p=3):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "-"
+    return f"{v:.{p}g}" if isinstance(v, float) else str(v)
+
+
+def copy_map(args, r, tag):
+    os.makedirs(args.images, exist_ok=True)
+    dst = os.path.join(args.images, f"{tag}.png")
+    shutil.copyfile(os.path.join(r["dir"], "spacetime.png"), dst)
+    return os.path.relpath(dst, os.path.dirname(args.report))
+
+
+def stress_plot(args, r, tag):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import numpy as np
+    except ImportError:
+        return None
+    d = np.genfromtxt(os.path.join(r["dir"], "frames.csv"), delimiter=",", names=True)
+    fig, ax = plt.subplots(figsize=(4, 2.4))
+    ax.plot(d["eps"], d["sigma_top_over_qy"], label="top")
+    ax.plot(d["eps"], d["sigma_bottom_over_qy"], label="bottom")
+    ax.set_xlabel("eps"); ax.set_ylabel("sigma / q_y"); ax.legend(); ax.set_title(tag)
+    lo = np.percentile(np.r_[d["sigma_top_over_qy"][2:], d["sigma_bottom_over_qy"][2:]], 1)
+    hi = np.percentile(np.r_[d["sigma_top_over_qy"][2:], d["sigma_bottom_over_qy"][2:]], 99)
+    ax.set_ylim(min(0, lo), hi * 1.2 if hi > 0 else 1)
+    fig.tight_layout()
+    dst = os.path.join(args.images, f"{tag}_stress.png")
+    fig.savefig(dst, dpi=90); plt.close(fig)
+    return os.path.relpath(dst, os.path.dirname(args.report))
+
+
+def row(expected, r):
+    c = r["cls"]
+    ok = "yes" if c["class"] == expected else "**no**"
+    return (f"| {expected} | {c['class']} | {ok} | {fmt(c['confidence'], 2)} | {c['runner_up'] or '-'} | "
+            f"{c['n_reflections']} | {fmt(c['band_speed_ratio'])} | {fmt(1 / (1 - r['phi_discrete']))} | "
+            f"{fmt(c['features']['stress_ratio'])} | {fmt(c['features']['coherence'], 2)} | "
+            f"{fmt(c['features']['peak_jump'], 2)} | {fmt(c['features']['deflection_growth'], 2)} | "
+            f"{r['wall']:.1f} | {r['geometry']} {r['cells']}/cell, eps {r['eps_end']:g} |")
+
+
+HEADER = ("| expected | found | match | confidence | runner-up | N_r | c_b/V | 1/(1-phi) | "
+          "top/bottom stress | coherence | peak jump [cells] | deflection growth [dec] | wall [s] | run |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cells", type=int, default=20, help="cells per unit cell of the examples")
+    ap.add_argument("--resolutions", default="8,12,16", help="comma list for the resolution study")
+    ap.add_argument("--fig3-cells", type=int, default=None, help="resolution of the Fig. 3 line")
+    ap.add_argument("--full2d-cells", type=int, default=None)
+    ap.add_argument("--eps-scale", type=float, default=1.0)
+    ap.add_argument("--sections", default="examples,fig3,full2d,resolution")
+    ap.add_argument("--work", default="/tmp/compaction-validation")
+    ap.add_argument("--run", default=os.path.join(ROOT, "build", "bin", "compaction-run"))
+    ap.add_argument("--classify", default=os.path.join(ROOT, "build", "bin", "compaction-classify"))
+    ap.add_argument("--report", default=os.path.join(ROOT, "docs", "validation.md"))
+    ap.add_argument("--images", default=os.path.join(ROOT, "docs", "validation"))
+    args = ap.parse_args()
+    sections = args.sections.split(",")
+    os.makedirs(args.work, exist_ok=True)
+    t0 = time.time()
+    md = ["# Validation against the paper's examples",
+          "",
+          "Written by `bench/validation/validate.py` "
+          f"(`{' '.join(os.path.basename(a) if i == 0 else a for i, a in enumerate(sys.argv))}`). "
+          "phi = 0.4. Labels from `compaction-classify` (docs/classifier.md): it reads the run's "
+          "space-time map, plate stresses and strut diagnostics, never S or R.", ""]
+
+    if "examples" in sections:
+        md += [f"## The six examples (pseudo-1D, {args.cells} cells per unit cell)", "", HEADER]
+        pics = []
+        for k, (S, R, e) in EXAMPLES.items():
+            r = run(args, f"{k}_p1d_{args.cells}_{e * args.eps_scale:g}", S, R, args.cells, e * args.eps_scale)
+            md.append(row(k, r))
+            tag = f"{k}_p1d_{args.cells}"
+            pics.append((k, S, R, copy_map(args, r, tag), stress_plot(args, r, tag)))
+        md += ["", "Space-time maps (height up, eps to the right) and plate stresses:", ""]
+        for k, S, R, m, st in pics:
+            md.append(f"**({k})** S = {S:g}, R = {R:g}: ![{k}]({m})" + (f" ![{k} stress]({st})" if st else ""))
+            md.append("")
+
+    if "resolution" in sections:
+        res = [int(x) for x in args.resolutions.split(",")]
+        md += ["## Resolution study (pseudo-1D)", "",
+               "| class | " + " | ".join(f"{c} cells: label (conf), c_b/V, N_r, wall" for c in res) + " |",
+               "|---|" + "---|" * len(res)]
+        for k, (S, R, e) in EXAMPLES.items():
+            cells = []
+            for c in res:
+                r = run(args, f"{k}_p1d_{c}_{e * args.eps_scale:g}", S, R, c, e * args.eps_scale)
+                cl = r["cls"]
+                cells.append(f"{cl['class']} ({fmt(cl['confidence'], 2)}), {fmt(cl['band_speed_ratio'])}, "
+                             f"{cl['n_reflections']}, {r['wall']:.0f} s")
+            md.append(f"| {k} | " + " | ".join(cells) + " |")
+        md.append("")
+
+    if "fig3" in sections:
+        c3 = args.fig3_cells or args.cells
+        pts = []
+        for R in FIG3_R:
+            r = run(args, f"fig3_R{R:g}_{c3}_{0.3 * args.eps_scale:g}", FIG3_S, R, c3, 0.3 * args.eps_scale)
+            pts.append((R / FIG3_S ** 2, r))
+        md += [f"## Band speed vs q_y/(rho V^2) (Fig. 3 line, S = {FIG3_S:g}, pseudo-1D, {c3} cells per unit cell)", "",
+               "| q_y/(rho V^2) = R/S^2 | R | class | N_r | c_b/V |", "|---|---|---|---|---|"]
+        xs, ys = [], []
+        for x, r in pts:
+            cl = r["cls"]
+            md.append(f"| {x:.3g} | {r['R']:g} | {cl['class']} | {cl['n_reflections']} | {fmt(cl['band_speed_ratio'])} |")
+            if cl["class"] == "b" and cl["band_speed_ratio"]:
+                xs.append(math.log(x)); ys.append(math.log(cl["band_speed_ratio"]))
+        if len(xs) >= 2:
+            n = len(xs); mx = sum(xs) / n; my = sum(ys) / n
+            slope = sum((a - mx) * (b - my) for a, b in zip(xs, ys)) / sum((a - mx) ** 2 for a in xs)
+            md += ["", f"Fitted exponent over the class-(b) points: c_b/V ~ (q_y/(rho V^2))^{slope:.3f} ({n} points)."]
+        try:
+            import matplotlib
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+            fig, ax = plt.subplots(1, 2, figsize=(8, 3))
+            X = [x for x, _ in pts]
+            ax[0].loglog(X, [r["cls"]["band_speed_ratio"] or float("nan") for _, r in pts], "o-")
+            ax[0].axhline(1 / (1 - PHI), ls="--", c="gray"); ax[0].set_xlabel("q_y/(rho V^2)"); ax[0].set_ylabel("c_b/V")
+            ax[1].semilogx(X, [r["cls"]["n_reflections"] for _, r in pts], "s-"); ax[1].set_xlabel("q_y/(rho V^2)"); ax[1].set_ylabel("N_r")
+            fig.tight_layout(); os.makedirs(args.images, exist_ok=True)
+            fig.savefig(os.path.join(args.images, "fig3_line.png"), dpi=90); plt.close(fig)
+            md += ["", "![Fig. 3 line](validation/fig3_line.png)"]
+        except ImportError:
+            pass
+        md.append("")
+
+    if "full2d" in sections:
+        c2 = args.full2d_cells or args.cells
+        md += [f"## Full 2D (17 x 34 cells, {c2} cells per unit cell) against pseudo-1D", "", HEADER]
+        for k in ("a", "b"):
+            S, R, e = EXAMPLES[k]
+            r2 = run(args, f"{k}_2d_{c2}_{e * args.eps_scale:g}", S, R, c2, e * args.eps_scale, "full2d")
+            r1 = run(args, f"{k}_p1d_{c2}_{e * args.eps_scale:g}", S, R, c2, e * args.eps_scale)
+            md += [row(k, r2), row(k, r1)]
+        md.append("")
+
+    md += [f"Total wall time of this report's runs (new and cached): {time.time() - t0:.0f} s of this invocation.", ""]
+    with open(args.report, "w") as f:
+        f.write("\n".join(md))
+    print("wrote", args.report, file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
