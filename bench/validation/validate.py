@@ -202,6 +202,9 @@ def main():
             md += [row(k, r2), row(k, r1)]
         md.append("")
 
+    notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
+    if os.path.exists(notes):  # what was found, written by hand for the measured resolution
+        md += [open(notes).read(), ""]
     md += [f"Total wall time of this report's runs (new and cached): {time.time() - t0:.0f} s of this invocation.", ""]
     with open(args.report, "w") as f:
         f.write("\n".join(md))

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
+#include <utility>
 
 namespace compaction::classify {
 
@@ -86,11 +88,9 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
   }
   double bottom_mass = 0.0;
   const Front* bottom = nullptr;
-  double prop_mass = 0.0;
   for (const auto& fr : t.fronts) {
     if (!fr.propagating) continue;
     ++F.n_fronts;
-    prop_mass += fr.mass();
     if (fr.origin == Origin::top) F.top_front = true;
     if (fr.origin == Origin::bottom) {
       F.bottom_front = true;
@@ -109,7 +109,20 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
       if (b.start_eps() < first_leg_end(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;
     }
   }
-  F.coherence = t.total_mass > 0 ? prop_mass / t.total_mass : kNaN;
+  // Coherence: the share of all segment activity that some propagating front contains (each
+  // segment counted once, also when crossing fronts share it).
+  {
+    std::set<std::pair<int, double>> in_front;
+    for (const auto& fr : t.fronts) {
+      if (!fr.propagating) continue;
+      for (const auto& g : fr.path) in_front.insert({g.frame, g.lo});
+    }
+    double m = 0.0;
+    for (const auto& segs : t.segments) {
+      for (const auto& g : segs) if (in_front.count({g.frame, g.lo})) m += g.mass;
+    }
+    F.coherence = t.total_mass > 0 ? m / t.total_mass : kNaN;
+  }
 
   const Front* prim = primary_front(t);
   F.band_speed_ratio = prim ? prim->speed : kNaN;

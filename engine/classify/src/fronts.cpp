@@ -19,7 +19,7 @@ const char* to_string(Origin o) {
 
 double Front::mass() const {
   double m = 0.0;
-  for (const auto& s : path) m += s.mass;
+  for (const auto& s : path) m += s.shared ? 0.5 * s.mass : s.mass;  // a crossing shares it
   return m;
 }
 

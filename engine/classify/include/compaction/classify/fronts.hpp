@@ -73,7 +73,7 @@ struct Front {
   bool propagating = false;            // travel >= min_travel
   double start_eps() const { return path.front().eps; }
   double end_eps() const { return path.back().eps; }
-  double mass() const;                 // summed activity of its segments
+  double mass() const;                 // summed activity of its segments (half of a shared one)
 };
 
 // Everything the tracker found.
