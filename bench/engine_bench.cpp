@@ -46,6 +46,12 @@ void BM_ReferenceScene_PicFlip_1Thread(benchmark::State& state) {
   run(state, p);
 }
 
+void BM_ReferenceScene_ApicBspline_1Thread(benchmark::State& state) {
+  auto p = reference_scene();
+  p.gradient = compaction::Gradient::bspline;
+  run(state, p);
+}
+
 void BM_ReferenceScene_Apic_2Threads(benchmark::State& state) {
   auto p = reference_scene();
   p.threads = 2;
@@ -56,6 +62,7 @@ void BM_ReferenceScene_Apic_2Threads(benchmark::State& state) {
 
 BENCHMARK(BM_ReferenceScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_PicFlip_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ReferenceScene_ApicBspline_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK_MAIN();

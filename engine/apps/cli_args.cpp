@@ -37,6 +37,7 @@ const std::map<std::string, Flag>& flags() {
       {"--transfer", {"transfer", Kind::text, "apic | pic_flip                              [apic]"}},
       {"--flip-ratio", {"flip_ratio", Kind::real, "FLIP share of pic_flip, in [0, 1]        [0.95]"}},
       {"--contact", {"contact", Kind::text, "plate contact: bonded | unilateral         [bonded]"}},
+      {"--gradient", {"gradient", Kind::text, "force and Fe gradient: mls | bspline          [mls]"}},
       {"--perturbation", {"perturbation", Kind::real, "random particle offset / spacing, [0, 0.5] [0]"}},
       {"--seed", {"seed", Kind::unsigned_integer, "seed of the perturbation                  [1]"}},
       {"--eps-end", {"eps_end", Kind::real, "final imposed strain; <= 0: fully dense, 1 - phi [1-phi]"}},

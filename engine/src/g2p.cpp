@@ -2,6 +2,7 @@
 //   v_p = sum w v_i                     (apic; pic_flip blends in the FLIP increment)
 //   C_p = D^-1 sum w v_i (x_i - x_p)^T  (= the velocity gradient for quadratic B-splines)
 //   x_p += dt v_p,  Fe <- (I + dt C_p) Fe,  then the return mapping (plasticity.hpp).
+// gradient = bspline updates Fe with the exact gradient sum v_i (x) grad w_ip instead of C_p.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,7 +14,7 @@ namespace compaction {
 
 namespace {
 
-template <bool kApic>
+template <bool kApic, bool kExact>
 StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
                    std::size_t end, double dt) {
   const double dx = g.dx, inv_dx = g.inv_dx;
@@ -35,15 +36,17 @@ StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begi
     const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
                            kx.w[2] * (2 - kx.fx) * dx};
     double vx = 0, vy = 0, bxx = 0, bxy = 0, byx = 0, byy = 0, ox = 0, oy = 0;
+    double gxx = 0, gxy = 0, gyx = 0, gyy = 0;  // exact velocity gradient (times dx)
     for (int b = 0; b < 3; ++b) {
       const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
       const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
-      double sx = 0, sy = 0, sdx = 0, sdy = 0;
+      double sx = 0, sy = 0, sdx = 0, sdy = 0, tx = 0, ty = 0;
       for (int a = 0; a < 3; ++a) {
         const std::size_t i = row + col[kx.base + 1 + a];
         const Node& n = nodes[i];
         sx += kx.w[a] * n.vx, sy += kx.w[a] * n.vy;
         sdx += wdx[a] * n.vx, sdy += wdx[a] * n.vy;
+        if constexpr (kExact) tx += kx.dw[a] * n.vx, ty += kx.dw[a] * n.vy;
         if constexpr (!kApic) {
           ox += kx.w[a] * wy * g.arrays.mx[i];
           oy += kx.w[a] * wy * g.arrays.my[i];
@@ -52,6 +55,10 @@ StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begi
       vx += wy * sx, vy += wy * sy;
       bxx += wy * sdx, bxy += wdy * sx;
       byx += wy * sdy, byy += wdy * sy;
+      if constexpr (kExact) {  // grad w = (dw_a w_b, w_a dw_b) / dx
+        gxx += wy * tx, gxy += ky.dw[b] * sx;
+        gyx += wy * ty, gyy += ky.dw[b] * sy;
+      }
     }
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
     P.C[p] = c;
@@ -66,12 +73,13 @@ StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begi
     if (periodic) x = x >= width ? x - width : (x < 0.0 ? x + width : x);
     P.x[p] = x, P.y[p] = y;
 
-    Mat2& f = P.Fe[p];  // Fe <- (I + dt C) Fe
+    const Mat2 grad = kExact ? Mat2{gxx * inv_dx, gxy * inv_dx, gyx * inv_dx, gyy * inv_dx} : c;
+    Mat2& f = P.Fe[p];  // Fe <- (I + dt grad v) Fe
     const Mat2 f0 = f;
-    f.xx += dt * (c.xx * f0.xx + c.xy * f0.yx);
-    f.xy += dt * (c.xx * f0.xy + c.xy * f0.yy);
-    f.yx += dt * (c.yx * f0.xx + c.yy * f0.yx);
-    f.yy += dt * (c.yx * f0.xy + c.yy * f0.yy);
+    f.xx += dt * (grad.xx * f0.xx + grad.xy * f0.yx);
+    f.xy += dt * (grad.xx * f0.xy + grad.xy * f0.yy);
+    f.yx += dt * (grad.yx * f0.xx + grad.yy * f0.yx);
+    f.yy += dt * (grad.yx * f0.xy + grad.yy * f0.yy);
     const double plastic = return_map(f, s.material, P.tau[p]);
     if (std::isnan(plastic)) m.bad_jacobian = true;
     P.dep[p] += plastic;  // ep, the running total, is updated once per frame
@@ -100,10 +108,15 @@ void g2p(State& s, double dt, ThreadPool& pool) {
   std::vector<StepMeasure>& parts = s.partial_measures;  // sized once, one per thread
   const std::size_t n = s.particles.n;
   const bool apic = s.setup.transfer == Transfer::apic;
+  const bool exact = s.setup.gradient == Gradient::bspline;
   pool.run([&](int t) {
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    parts[t] = apic ? gather<true>(s.particles, s.setup, s.grid, b, e, dt)
-                    : gather<false>(s.particles, s.setup, s.grid, b, e, dt);
+    Particles& P = s.particles;
+    const Grid& g = s.grid;
+    if (apic && !exact) parts[t] = gather<true, false>(P, s.setup, g, b, e, dt);
+    else if (apic) parts[t] = gather<true, true>(P, s.setup, g, b, e, dt);
+    else if (!exact) parts[t] = gather<false, false>(P, s.setup, g, b, e, dt);
+    else parts[t] = gather<false, true>(P, s.setup, g, b, e, dt);
   });
   StepMeasure m = parts[0];
   for (std::size_t t = 1; t < parts.size(); ++t) m = combine(m, parts[t]);

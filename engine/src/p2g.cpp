@@ -4,7 +4,8 @@
 //   m_i += w m_p
 //   (m v)_i += w (m_p v_p + Q_p d),  Q_p = -dt V0 D^-1 tau_p + m_p C_p   (apic)
 // pic_flip keeps the momentum m_p v_p apart (mx, my) so the grid update can form v_old, and
-// drops the affine part m_p C_p from Q.
+// drops the affine part m_p C_p from Q. gradient = bspline takes the stress out of Q and adds
+// the standard MPM force impulse -dt V0 tau_p grad w_ip with the exact B-spline gradient.
 #include <algorithm>
 
 #include "kernel.hpp"
@@ -24,11 +25,12 @@ void clear_rows(const Grid& g, NodeArrays& a, bool flip) {
   }
 }
 
-template <bool kApic>
+template <bool kApic, bool kExact>
 void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
              std::size_t begin, std::size_t end, double dt) {
   const double dx = g.dx, inv_dx = g.inv_dx, m = P.mass;
-  const double stress = -dt * s.scale;
+  const double stress = kExact ? 0.0 : -dt * s.scale;
+  const double impulse = -dt * s.vol0 * inv_dx;  // exact gradient: dw is per grid cell
   const int nx = g.nx;
   const int* col = g.col.data();
   Node* nodes = out.nodes.data();
@@ -42,6 +44,7 @@ void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
       q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
     }
     const double mvx = m * P.vx[p], mvy = m * P.vy[p];
+    const double sxx = impulse * t.xx, sxy = impulse * t.xy, syy = impulse * t.yy;
     // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
     // offsets are formed once, each row then adds its y-part.
     const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
@@ -57,6 +60,11 @@ void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
         n.m += kx.w[a] * wm;
         n.vx += kx.w[a] * qx + wdx[a] * qxx;
         n.vy += kx.w[a] * qy + wdx[a] * qyx;
+        if constexpr (kExact) {  // -dt V0 tau grad w, grad w = (dw_a w_b, w_a dw_b) / dx
+          const double gx = kx.dw[a] * wy, gy = kx.w[a] * ky.dw[b];
+          n.vx += sxx * gx + sxy * gy;
+          n.vy += sxy * gx + syy * gy;
+        }
         if constexpr (!kApic) {
           out.mx[i] += kx.w[a] * wy * mvx;
           out.my[i] += kx.w[a] * wy * mvy;
@@ -76,8 +84,12 @@ void p2g(State& s, double dt, ThreadPool& pool) {
     NodeArrays& out = t == 0 ? g.arrays : g.scratch[t - 1];
     clear_rows(g, out, !apic);
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    if (apic) scatter<true>(s.particles, s.setup, g, out, b, e, dt);
-    else scatter<false>(s.particles, s.setup, g, out, b, e, dt);
+    const bool exact = s.setup.gradient == Gradient::bspline;
+    const Particles& P = s.particles;
+    if (apic && !exact) scatter<true, false>(P, s.setup, g, out, b, e, dt);
+    else if (apic) scatter<true, true>(P, s.setup, g, out, b, e, dt);
+    else if (!exact) scatter<false, false>(P, s.setup, g, out, b, e, dt);
+    else scatter<false, true>(P, s.setup, g, out, b, e, dt);
   });
   if (pool.size() == 1) return;
   // Sum the threads' arrays into the grid, each thread a share of the rows, in a fixed order

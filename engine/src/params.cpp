@@ -96,6 +96,14 @@ const char* to_string(PlateContact c) {
   return c == PlateContact::bonded ? "bonded" : "unilateral";
 }
 
+const char* to_string(Gradient g) { return g == Gradient::mls ? "mls" : "bspline"; }
+
+bool parse(const std::string& s, Gradient& out) {
+  if (s == "mls") return out = Gradient::mls, true;
+  if (s == "bspline") return out = Gradient::bspline, true;
+  return false;
+}
+
 bool parse(const std::string& s, Geometry& out) {
   if (s == "pseudo1d") return out = Geometry::pseudo1d, true;
   if (s == "full2d") return out = Geometry::full2d, true;

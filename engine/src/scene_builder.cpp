@@ -67,6 +67,7 @@ State build_scene(const SceneParams& p) {
   su.c_p = p.p_wave_speed();
   su.transfer = p.transfer;
   su.flip_ratio = p.flip_ratio;
+  su.gradient = p.gradient;
   su.contact = p.contact;
   su.side_walls = p.geometry == Geometry::full2d;
 
@@ -129,6 +130,7 @@ State build_scene(const SceneParams& p) {
   P.dep.assign(P.n, 0.0);
   P.ep.assign(P.n, 0.0);
   su.scale = P.vol0 * 4.0 * g.inv_dx * g.inv_dx;  // V0 D^-1 of the MLS force
+  su.vol0 = P.vol0;
 
   s.partial_measures.resize(static_cast<std::size_t>(p.threads));
   StepMeasure& m = s.measure;

@@ -59,7 +59,9 @@ struct Setup {
   double width = 0.0;   // specimen width                                [m]
   double c_p = 0.0;     // P-wave speed                                  [m/s]
   double scale = 0.0;   // MLS force factor: vol0 * D^-1 = 4 vol0 / dx^2
+  double vol0 = 0.0;    // initial particle area (force factor of the B-spline gradient) [m^2]
   Transfer transfer = Transfer::apic;
+  Gradient gradient = Gradient::mls;
   double flip_ratio = 0.0;
   PlateContact contact = PlateContact::bonded;
   bool side_walls = false;

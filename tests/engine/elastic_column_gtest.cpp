@@ -14,6 +14,7 @@ struct Variant {
   Geometry geometry;
   Transfer transfer;
   PlateContact contact;
+  Gradient gradient = Gradient::mls;
 };
 
 SceneParams column(const Variant& v) {
@@ -21,6 +22,7 @@ SceneParams column(const Variant& v) {
   p.geometry = v.geometry;
   p.transfer = v.transfer;
   p.contact = v.contact;
+  p.gradient = v.gradient;
   p.phi = 1.0;
   p.S = 1e-3;
   p.R = 0.05;  // yield strain ~0.1 >> wave strain V / c ~ 1e-3: purely elastic
@@ -91,10 +93,15 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Variant{Geometry::pseudo1d, Transfer::apic, PlateContact::bonded},
                       Variant{Geometry::full2d, Transfer::apic, PlateContact::bonded},
                       Variant{Geometry::pseudo1d, Transfer::pic_flip, PlateContact::bonded},
-                      Variant{Geometry::pseudo1d, Transfer::apic, PlateContact::unilateral}),
+                      Variant{Geometry::pseudo1d, Transfer::apic, PlateContact::unilateral},
+                      Variant{Geometry::pseudo1d, Transfer::apic, PlateContact::bonded,
+                              Gradient::bspline},
+                      Variant{Geometry::full2d, Transfer::apic, PlateContact::bonded,
+                              Gradient::bspline}),
     [](const auto& info) {
       return std::string(to_string(info.param.geometry)) + "_" +
-             to_string(info.param.transfer) + "_" + to_string(info.param.contact);
+             to_string(info.param.transfer) + "_" + to_string(info.param.contact) + "_" +
+             to_string(info.param.gradient);
     });
 
 }  // namespace

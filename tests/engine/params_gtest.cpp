@@ -60,6 +60,7 @@ TEST(ParamsGtest, JsonRoundTripKeepsEveryField) {
   SceneParams p;
   p.S = 0.02, p.R = 3e-4, p.phi = 0.55, p.geometry = Geometry::full2d, p.n_cols = 5;
   p.transfer = Transfer::pic_flip, p.contact = PlateContact::unilateral, p.seed = 77;
+  p.gradient = Gradient::bspline;
   p.snapshot_eps = {0.1, 0.3};
   SceneParams q;
   ASSERT_TRUE(from_json(to_json(p), q).empty());

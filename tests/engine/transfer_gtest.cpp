@@ -11,11 +11,13 @@ namespace compaction {
 namespace {
 
 // A free block of particles in the middle of a full2d grid, far from plates and walls.
-State spinning_block(double omega, double ux, double uy, Transfer transfer) {
+State spinning_block(double omega, double ux, double uy, Transfer transfer,
+                     Gradient gradient = Gradient::mls) {
   SceneParams p;
   p.geometry = Geometry::full2d;
   p.n_cols = 4, p.n_rows = 4, p.cells_per_unit = 8, p.phi = 1.0, p.eps_end = 0.01;
   p.transfer = transfer;
+  p.gradient = gradient;
   State s = build_scene(p);
   Particles& P = s.particles;
   const double L = p.unit_cell(), cx = 2 * L, cy = 2 * L;
@@ -79,16 +81,17 @@ TEST(TransferGtest, ParticleToGridConservesMassMomentumAndAngularMomentum) {
 }
 
 TEST(TransferGtest, StressForcesSumToZeroSoMomentumIsConserved) {
-  for (Transfer tr : {Transfer::apic, Transfer::pic_flip}) {
-    State s = spinning_block(0.0, 0.3, 0.1, tr);
+  for (Transfer tr : {Transfer::apic, Transfer::pic_flip})
+  for (Gradient gr : {Gradient::mls, Gradient::bspline}) {
+    State s = spinning_block(0.0, 0.3, 0.1, tr, gr);
     for (std::size_t k = 0; k < s.particles.n; ++k) {
       s.particles.tau[k] = {1e4 * std::sin(k * 1.3), 2e3 * std::cos(k * 0.7), -5e3 + k};
     }
     ThreadPool pool(1);
     p2g(s, 1e-4, pool);  // stress impulse dt * f enters the momentum
     const Totals g = grid_totals(s), p = particle_totals(s);
-    EXPECT_NEAR(g.px, p.px, 1e-10 * std::abs(p.px)) << to_string(tr);
-    EXPECT_NEAR(g.py, p.py, 1e-10 * std::abs(p.py)) << to_string(tr);
+    EXPECT_NEAR(g.px, p.px, 1e-10 * std::abs(p.px)) << to_string(tr) << to_string(gr);
+    EXPECT_NEAR(g.py, p.py, 1e-10 * std::abs(p.py)) << to_string(tr) << to_string(gr);
   }
 }
 

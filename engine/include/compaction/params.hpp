@@ -19,6 +19,12 @@ enum class Transfer {
   pic_flip  // blend: v_p = flip_ratio * FLIP + (1 - flip_ratio) * PIC
 };
 
+// How the stress divergence (P2G force) and the velocity gradient (Fe update) are formed.
+enum class Gradient {
+  mls,     // moving least squares (Hu et al. 2018): grad w ~ 4 w (x_i - x_p) / dx^2 (default)
+  bspline  // the exact gradient of the B-spline weights, for both (standard MPM, as Matter)
+};
+
 enum class PlateContact {
   bonded,     // plates impose their normal velocity on the nodes they cover (no separation)
   unilateral  // plates only push: the material may separate from a plate
@@ -47,6 +53,7 @@ struct SceneParams {
   double cfl = 0.5;             // dt = cfl * dx / (c_P + max particle speed)    [-]
   Transfer transfer = Transfer::apic;
   double flip_ratio = 0.95;     // FLIP share of the pic_flip blend               [-]
+  Gradient gradient = Gradient::mls;
   PlateContact contact = PlateContact::bonded;
   double perturbation = 0.0;    // random particle offset, fraction of spacing    [-]
   std::uint64_t seed = 1;       // seed of the perturbation                       [-]
@@ -84,8 +91,10 @@ std::vector<FieldError> validate(const SceneParams& p);
 const char* to_string(Geometry g);
 const char* to_string(Transfer t);
 const char* to_string(PlateContact c);
+const char* to_string(Gradient g);
 bool parse(const std::string& s, Geometry& out);
 bool parse(const std::string& s, Transfer& out);
 bool parse(const std::string& s, PlateContact& out);
+bool parse(const std::string& s, Gradient& out);
 
 }  // namespace compaction
