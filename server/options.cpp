@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include "compaction/text_numbers.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -39,21 +41,8 @@ bool is_loopback_host(const std::string& host) {
 
 namespace {
 
-bool parse_number(const std::string& s, double& out) {
-  char* end = nullptr;
-  out = std::strtod(s.c_str(), &end);
-  return !s.empty() && end == s.c_str() + s.size() && std::isfinite(out);
-}
-
-bool parse_int(const std::string& s, int& out) {
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || end != s.c_str() + s.size() || v < -2147483647L || v > 2147483647L) {
-    return false;
-  }
-  out = static_cast<int>(v);
-  return true;
-}
+using compaction::parse_int;
+bool parse_number(const std::string& s, double& out) { return compaction::parse_finite_real(s, out); }
 
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include "compaction/text_numbers.hpp"
+
 #include <unistd.h>
 
 #include <climits>
@@ -34,19 +36,8 @@ usage: compaction-worker [options]
 SIGTERM or SIGINT: the run is stopped, the lease released (the job requeues at once), exit 0.
 )";
 
-bool parse_double(const std::string& s, double& out) {
-  char* end = nullptr;
-  out = std::strtod(s.c_str(), &end);
-  return !s.empty() && end == s.c_str() + s.size() && std::isfinite(out);
-}
-
-bool parse_int(const std::string& s, int& out) {
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || end != s.c_str() + s.size() || v < INT_MIN || v > INT_MAX) return false;
-  out = static_cast<int>(v);
-  return true;
-}
+using compaction::parse_int;
+bool parse_double(const std::string& s, double& out) { return compaction::parse_finite_real(s, out); }
 
 std::string self_dir() {
   std::error_code ec;

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "compaction/params_json.hpp"
+#include "compaction/text_numbers.hpp"
 
 namespace compaction::cli {
 
@@ -52,11 +53,7 @@ const std::map<std::string, Flag>& flags() {
   return table;
 }
 
-bool to_real(const std::string& s, double& v) {
-  const char* end = s.data() + s.size();
-  const auto [ptr, ec] = std::from_chars(s.data(), end, v);
-  return ec == std::errc() && ptr == end && std::isfinite(v);
-}
+bool to_real(const std::string& s, double& v) { return parse_finite_real(s, v); }
 
 // The value of a flag as JSON, or an error message.
 std::string convert(const Flag& f, const std::string& text, json& value) {
@@ -70,9 +67,7 @@ std::string convert(const Flag& f, const std::string& text, json& value) {
     case Kind::integer:
     case Kind::unsigned_integer: {
       long long v;
-      const char* end = text.data() + text.size();
-      const auto [ptr, ec] = std::from_chars(text.data(), end, v);
-      if (ec != std::errc() || ptr != end) return "expected an integer, got '" + text + "'";
+      if (!parse_int(text, v)) return "expected an integer, got '" + text + "'";
       if (f.kind == Kind::unsigned_integer) {
         if (v < 0) return "expected a non-negative integer, got '" + text + "'";
         value = static_cast<std::uint64_t>(v);
