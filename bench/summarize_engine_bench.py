@@ -14,8 +14,9 @@ for b in data["benchmarks"]:
 print("# Engine benchmark: reference scene\n")
 print("pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, S = 4e-3, "
       "R = 1e-5, eps 0 -> 0.008 (about 3200 steps). Medians of 5 repetitions.\n")
-print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, "
-      f"build {ctx.get('library_build_type')} benchmark library, date {ctx.get('date')}.\n")
+print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}. "
+      f"Engine built Release (-O3, x86-64 baseline); the Google Benchmark library itself is "
+      f"Debian's ({ctx.get('library_build_type')} build), which only drives the timing loop.\n")
 print("Command: `bench/run_engine_bench.sh`\n")
 print("| variant | ns / particle-step | P2G | grid update | G2P + plasticity | diagnostics | wall (ms) |")
 print("|---|---|---|---|---|---|---|")
