@@ -16,3 +16,17 @@ if(GIT_FOUND AND EXISTS ${CMAKE_SOURCE_DIR}/.git)
     endif()
   endif()
 endif()
+
+# Configure again when the commit or the index changes, so the recorded revision never goes
+# stale across commits (a build after `git commit` re-runs this file).
+if(EXISTS ${CMAKE_SOURCE_DIR}/.git/HEAD)
+  set_property(DIRECTORY ${CMAKE_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+    ${CMAKE_SOURCE_DIR}/.git/HEAD ${CMAKE_SOURCE_DIR}/.git/index)
+  file(READ ${CMAKE_SOURCE_DIR}/.git/HEAD _head)
+  if(_head MATCHES "^ref: ([^\n]+)")
+    if(EXISTS ${CMAKE_SOURCE_DIR}/.git/${CMAKE_MATCH_1})
+      set_property(DIRECTORY ${CMAKE_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+        ${CMAKE_SOURCE_DIR}/.git/${CMAKE_MATCH_1})
+    endif()
+  endif()
+endif()
