@@ -105,6 +105,19 @@ TEST(FrontTracker, TwoCrossingFrontsKeepTheirIdentityThroughTheCrossing) {
   EXPECT_EQ(decide(F).label, "c");
 }
 
+// Mass conservation bounds a band's speed from below: c_b / V >= 1 / (1 - phi) = 1.67 here.
+// The same straight front from the top is a non-reflecting band (a) at that speed and is not a
+// band at all at 1.0 (activity drifting down, as erratic runs can show): (d). Stresses equal.
+TEST(FrontTracker, AFrontSlowerThanMassConservationAllowsIsNotABand) {
+  auto label_at = [](double c) {
+    const auto run = make_run(0.4, [&](double eps, double y) { return bump(y, 0.985 - c * eps); });
+    const FrontTracks t = track(run);
+    return decide(compute_features(run.params, run.result, t)).label;
+  };
+  EXPECT_EQ(label_at(1.0 / 0.6), "a");
+  EXPECT_EQ(label_at(1.0), "d");
+}
+
 TEST(FrontTracker, RandomBlobsAreNotFronts) {
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> u(0.0, 1.0);

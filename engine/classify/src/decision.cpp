@@ -42,14 +42,19 @@ Classification decide(const Features& F, const DecisionSettings& s) {
                                F.arrival_eps < (1.0 / F.nonreflecting_speed) / (1.0 + s.reflecting_excess)
                            ? 0.9 : 0.0;
   const double reflecting = std::max({F.n_reflections >= 1 ? 0.95 : 0.0, fast, early});
+  // Mass conservation also bounds a band from below: c_b / V >= 1 / (1 - phi) (phi_f <= 1). A
+  // single front from the top that is clearly slower is activity drifting down row by row, not
+  // a band compacting everything it passes (erratic compaction, class (d), can look like that).
+  const double banded = step(F.speed_excess, -s.slow_band, 0.03, 1.0);
   const double elastic_struts = 1.0 - buckled;
   const double not_inertial = 1.0 - inertial;
 
   auto& S = c.scores;
-  S[0] = elastic_struts * not_inertial * coherent * single * (1.0 - reflecting);
-  S[1] = elastic_struts * not_inertial * coherent * single * reflecting;
+  S[0] = elastic_struts * not_inertial * coherent * single * banded * (1.0 - reflecting);
+  S[1] = elastic_struts * not_inertial * coherent * single * banded * reflecting;
   S[2] = elastic_struts * not_inertial * coherent * (F.two_sided ? 1.0 : 0.0);
-  S[3] = elastic_struts * not_inertial * (1.0 - step(F.coherence, s.coherence, 0.07, 1.0) * (1.0 - erratic)) *
+  const double organised = step(F.coherence, s.coherence, 0.07, 1.0) * (1.0 - erratic);
+  S[3] = elastic_struts * not_inertial * (1.0 - organised * (single > 0.0 ? banded : 1.0)) *
          (0.6 + 0.4 * equal);
   S[4] = elastic_struts * inertial * (from_top ? 1.0 : 0.3) * (0.85 + 0.15 * F.undulation_share);
   S[5] = buckled;

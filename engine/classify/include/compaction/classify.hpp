@@ -29,6 +29,9 @@ struct DecisionSettings {
                                     // between frames (a band at c/V = 10 moves 0.7 cell) [cells]
   double reflecting_excess = 0.2;   // a band > 1.2 / (1 - phi) leaves > 1/6 of its porosity and
                                     // must reflect to densify                         [-]
+  double slow_band = 0.15;          // a single band from the top slower than (1 - this) / (1 - phi)
+                                    // is not a compaction band: it would leave the solid denser
+                                    // than solid behind it (mass conservation)         [-]
   double equal_stress = 0.1;        // quasi-static: |log10(top / bottom)| below this  [decades]
   double min_score = 0.4;           // below it the run is "unclassified"              [-]
 };
