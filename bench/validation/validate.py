@@ -19,38 +19,73 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 import time
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+
+ROOT = runs.ROOT
 PHI = 0.4
-# class: (S, R, eps_end at eps-scale 1): long enough to show the pattern, not necessarily dense.
+# class: (S, R, eps_end at eps-scale 1): to full density, 1 - phi, as the service runs them.
 EXAMPLES = {
-    "a": (4e-3, 1e-5, 0.3),
-    "b": (4e-3, 4e-4, 0.3),
-    "c": (4e-2, 2e-2, 0.3),
-    "d": (1.32e-3, 4e-3, 0.2),
-    "e": (1e-1, 1e-5, 0.3),
-    "f": (4e-3, 1e-1, 0.25),
+    "a": (4e-3, 1e-5, 0.6),
+    "b": (4e-3, 4e-4, 0.6),
+    "c": (4e-2, 2e-2, 0.6),
+    "d": (1.32e-3, 4e-3, 0.6),
+    "e": (1e-1, 1e-5, 0.6),
+    "f": (4e-3, 1e-1, 0.6),
 }
 # Fig. 3 line: S = 4e-3 fixed, R rising through class (b): R/S^2 = 1.6 (a) ... 62.5.
 FIG3_S = 4e-3
 FIG3_R = [1e-5, 4e-5, 1e-4, 2e-4, 4e-4, 1e-3]
+FIG3_EPS = 0.6     # to full density: reflections happen after the band first reaches the bottom
+FULL2D_EPS = 0.2   # 17 times the particles of pseudo-1D: the prereflection band only
+
+
+def fig3_name(R, cells, eps_end):
+    """A point of the Fig. 3 line that is one of the examples shares its run."""
+    for k, (S, R_k, _) in EXAMPLES.items():
+        if S == FIG3_S and R_k == R:
+            return f"{k}_p1d_{cells}_{eps_end:g}"
+    return f"fig3_R{R:g}_{cells}_{eps_end:g}"
+
+
+def scene(name, S, R, cells, eps_end, geometry="pseudo1d"):
+    return name, {"S": S, "R": R, "phi": PHI, "cells_per_unit": cells, "eps_end": eps_end,
+                  "geometry": geometry, "snapshot_eps": min(0.2, eps_end)}
+
+
+def plan(args, sections):
+    """Every run the requested sections need, as {name: flags}."""
+    out = {}
+    add = lambda name_flags: out.__setitem__(*name_flags)
+    if "examples" in sections:
+        for k, (S, R, e) in EXAMPLES.items():
+            add(scene(f"{k}_p1d_{args.cells}_{e * args.eps_scale:g}", S, R, args.cells, e * args.eps_scale))
+    if "resolution" in sections:
+        for c in [int(x) for x in args.resolutions.split(",")]:
+            for k, (S, R, e) in EXAMPLES.items():
+                add(scene(f"{k}_p1d_{c}_{e * args.eps_scale:g}", S, R, c, e * args.eps_scale))
+    if "fig3" in sections:
+        c3 = args.fig3_cells or args.cells
+        for R in FIG3_R:
+            add(scene(fig3_name(R, c3, FIG3_EPS * args.eps_scale), FIG3_S, R, c3, FIG3_EPS * args.eps_scale))
+    if "full2d" in sections:
+        c2 = args.full2d_cells or args.cells
+        for k in ("a", "b"):
+            S, R, _ = EXAMPLES[k]
+            e = FULL2D_EPS * args.eps_scale
+            add(scene(f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d"))
+            add(scene(f"{k}_p1d_{c2}_{e:g}", S, R, c2, e))
+    return out
 
 
 def run(args, name, S, R, cells, eps_end, geometry="pseudo1d"):
-    out = os.path.join(args.work, name)
-    summ = os.path.join(out, "summary.json")
-    if not os.path.exists(summ):
-        cmd = [args.run, "--S", str(S), "--R", str(R), "--phi", str(PHI), "--cells-per-unit",
-               str(cells), "--eps-end", str(eps_end), "--geometry", geometry, "--progress", "none",
-               "--snapshot-eps", str(min(0.2, eps_end)), "--out", out]
-        print("run", " ".join(cmd), file=sys.stderr, flush=True)
-        subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
-    cls = json.loads(subprocess.run([args.classify, "--compact", out], check=True,
-                                    capture_output=True, text=True).stdout)
-    s = json.load(open(summ))
+    """The results of a run that plan() listed (run_all has computed it)."""
+    out = runs.run_one(args.work, *scene(name, S, R, cells, eps_end, geometry), run=args.run)
+    cls = runs.classify(out, args.classify)
+    s = runs.summary(out)
     return {"name": name, "dir": out, "S": S, "R": R, "cells": cells, "eps_end": eps_end,
             "geometry": geometry, "wall": s["wall_seconds"], "phi_discrete": s["phi_discrete"],
             "cls": cls}
@@ -115,14 +150,15 @@ def main():
     ap.add_argument("--eps-scale", type=float, default=1.0)
     ap.add_argument("--sections", default="examples,fig3,full2d,resolution")
     ap.add_argument("--work", default="/tmp/compaction-validation")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at a time (each on one thread)")
     ap.add_argument("--run", default=os.path.join(ROOT, "build", "bin", "compaction-run"))
     ap.add_argument("--classify", default=os.path.join(ROOT, "build", "bin", "compaction-classify"))
     ap.add_argument("--report", default=os.path.join(ROOT, "docs", "validation.md"))
     ap.add_argument("--images", default=os.path.join(ROOT, "docs", "validation"))
     args = ap.parse_args()
     sections = args.sections.split(",")
-    os.makedirs(args.work, exist_ok=True)
     t0 = time.time()
+    runs.run_all(args.work, plan(args, sections), jobs=args.jobs, run=args.run)
     md = ["# Validation against the paper's examples",
           "",
           "Written by `bench/validation/validate.py` "
@@ -162,7 +198,8 @@ def main():
         c3 = args.fig3_cells or args.cells
         pts = []
         for R in FIG3_R:
-            r = run(args, f"fig3_R{R:g}_{c3}_{0.3 * args.eps_scale:g}", FIG3_S, R, c3, 0.3 * args.eps_scale)
+            e = FIG3_EPS * args.eps_scale
+            r = run(args, fig3_name(R, c3, e), FIG3_S, R, c3, e)
             pts.append((R / FIG3_S ** 2, r))
         md += [f"## Band speed vs q_y/(rho V^2) (Fig. 3 line, S = {FIG3_S:g}, pseudo-1D, {c3} cells per unit cell)", "",
                "| q_y/(rho V^2) = R/S^2 | R | class | N_r | c_b/V |", "|---|---|---|---|---|"]
@@ -196,9 +233,10 @@ def main():
         c2 = args.full2d_cells or args.cells
         md += [f"## Full 2D (17 x 34 cells, {c2} cells per unit cell) against pseudo-1D", "", HEADER]
         for k in ("a", "b"):
-            S, R, e = EXAMPLES[k]
-            r2 = run(args, f"{k}_2d_{c2}_{e * args.eps_scale:g}", S, R, c2, e * args.eps_scale, "full2d")
-            r1 = run(args, f"{k}_p1d_{c2}_{e * args.eps_scale:g}", S, R, c2, e * args.eps_scale)
+            S, R, _ = EXAMPLES[k]
+            e = FULL2D_EPS * args.eps_scale
+            r2 = run(args, f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d")
+            r1 = run(args, f"{k}_p1d_{c2}_{e:g}", S, R, c2, e)
             md += [row(k, r2), row(k, r1)]
         md.append("")
 
