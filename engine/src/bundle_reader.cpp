@@ -83,6 +83,16 @@ Bundle read_bundle(const fs::path& dir) {
   r.spacetime.n_rows = static_cast<int>(map.shape[1]);
   r.spacetime.row_height = s.at("spacetime").at("row_height").get<double>();
   r.spacetime.values = std::move(map.data);
+  if (s.contains("velocity")) {  // bundles from before the velocity map have none
+    npy::Array vel = npy::read(dir / "velocity.npy");
+    if (vel.shape.size() != 2 || vel.shape[0] != map.shape[0] || vel.shape[1] != map.shape[1]) {
+      throw std::runtime_error("velocity.npy: expected the shape of spacetime.npy");
+    }
+    r.velocity.n_frames = r.spacetime.n_frames;
+    r.velocity.n_rows = r.spacetime.n_rows;
+    r.velocity.row_height = r.spacetime.row_height;
+    r.velocity.values = std::move(vel.data);
+  }
 
   for (const json& js : s.at("snapshots")) {
     npy::Array a = npy::read(dir / js.at("file").get<std::string>());

@@ -140,6 +140,11 @@ json summary_json(const SceneParams& p, const RunResult& r) {
         {"shape", {r.spacetime.n_frames, r.spacetime.n_rows}},
         {"row_height", r.spacetime.row_height},
         {"quantity", "row-averaged |d eps_P/dt| / (V/h0)"}}},
+      {"velocity",
+       {{"file", "velocity.npy"},
+        {"shape", {r.velocity.n_frames, r.velocity.n_rows}},
+        {"row_height", r.velocity.row_height},
+        {"quantity", "row-averaged vertical particle velocity / V at the end of each frame"}}},
       {"snapshots", snaps},
   };
 }
@@ -151,6 +156,9 @@ void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r)
   npy::write(dir / "spacetime.npy", m.values.data(),
              {static_cast<std::size_t>(m.n_frames), static_cast<std::size_t>(m.n_rows)});
   write_spacetime_png(dir / "spacetime.png", m);
+  const SpaceTimeMap& v = r.velocity;
+  npy::write(dir / "velocity.npy", v.values.data(),
+             {static_cast<std::size_t>(v.n_frames), static_cast<std::size_t>(v.n_rows)});
   for (const Snapshot& s : r.snapshots) {
     const std::size_t n = s.x.size();
     std::vector<float> table(n * 5);

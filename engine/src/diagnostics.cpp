@@ -15,6 +15,7 @@ FrameRecorder::FrameRecorder(const SceneParams& p, const State& s) : p_(p) {
   x_hi_ = walls ? 0.9 * p.width() : 1e300;
   const int rows = p.n_rows * p.cells_per_unit;
   row_sum_.assign(rows, 0.0);
+  row_vy_.assign(rows, 0.0);
   row_count_.assign(rows, 0);
   mid_sum_.assign(s.setup.n_struts, 0.0);
   end_sum_.assign(s.setup.n_struts, 0.0);
@@ -32,6 +33,7 @@ void FrameRecorder::record(State& s, double eps_begin, double eps_end, RunResult
   const int rows = static_cast<int>(row_sum_.size());
   const double inv_row = 1.0 / s.grid.dx;
   std::fill(row_sum_.begin(), row_sum_.end(), 0.0);
+  std::fill(row_vy_.begin(), row_vy_.end(), 0.0);
   std::fill(row_count_.begin(), row_count_.end(), 0);
   std::fill(mid_sum_.begin(), mid_sum_.end(), 0.0);
   std::fill(end_sum_.begin(), end_sum_.end(), 0.0);
@@ -49,6 +51,7 @@ void FrameRecorder::record(State& s, double eps_begin, double eps_end, RunResult
     if (P.x[k] >= x_lo_ && P.x[k] < x_hi_) {
       const int row = std::clamp(static_cast<int>(std::floor(P.y[k] * inv_row)), 0, rows - 1);
       row_sum_[row] += P.dep[k];
+      row_vy_[row] += P.vy[k];
       ++row_count_[row];
     }
     if (P.strut[k] >= 0) {
@@ -87,6 +90,11 @@ void FrameRecorder::record(State& s, double eps_begin, double eps_end, RunResult
     map.values.push_back(static_cast<float>(rate));
   }
   ++map.n_frames;
+  SpaceTimeMap& vel = out.velocity;
+  for (int r = 0; r < rows; ++r) {
+    vel.values.push_back(static_cast<float>(row_count_[r] ? row_vy_[r] / row_count_[r] / su.V : 0.0));
+  }
+  ++vel.n_frames;
 
   if (next_snapshot_ < snapshots_due_.size() &&
       eps_end >= snapshots_due_[next_snapshot_] - 1e-9) {

@@ -1,4 +1,5 @@
-// What a run records once per frame: plate stresses, the space-time map row, energies, strut
+// What a run records once per frame: plate stresses, the space-time map row, the row velocity
+// profile, energies, strut
 // deflections, and the particle snapshots that fall due.
 #pragma once
 
@@ -23,6 +24,7 @@ class FrameRecorder {
   const SceneParams& p_;
   double x_lo_, x_hi_;  // particles outside [x_lo, x_hi) are left out of the map (wall zones)
   std::vector<double> row_sum_;
+  std::vector<double> row_vy_;
   std::vector<int> row_count_;
   std::vector<double> mid_sum_, end_sum_;
   std::vector<int> mid_n_, end_n_;

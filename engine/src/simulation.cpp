@@ -37,6 +37,8 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   r.phi_discrete = s.particles.n * s.particles.vol0 / (p.width() * p.h0);
   r.spacetime.n_rows = p.n_rows * p.cells_per_unit;
   r.spacetime.row_height = s.grid.dx;
+  r.velocity.n_rows = r.spacetime.n_rows;
+  r.velocity.row_height = s.grid.dx;
 
   const double V = s.setup.V, h0 = p.h0;
   const double eps_end = p.eps_final();
@@ -90,6 +92,8 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
         r.frames.pop_back();
         r.spacetime.values.resize(r.spacetime.values.size() - r.spacetime.n_rows);
         --r.spacetime.n_frames;
+        r.velocity.values.resize(r.velocity.values.size() - r.velocity.n_rows);
+        --r.velocity.n_frames;
         r.eps_reached = eps_frame_begin;
       }
       stop(RunStatus::unstable, why);

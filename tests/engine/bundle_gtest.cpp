@@ -28,7 +28,7 @@ TEST(BundleGtest, WrittenBundleReadsBackEqual) {
   write_bundle(dir, p, r);
 
   for (const char* f : {"summary.json", "frames.csv", "spacetime.npy", "spacetime.png",
-                        "snapshot_0.010.npy", "snapshot_0.010.png"}) {
+                        "velocity.npy", "snapshot_0.010.npy", "snapshot_0.010.png"}) {
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   }
   EXPECT_EQ(head(dir / "spacetime.png", 8), std::string("\x89PNG\r\n\x1a\n", 8));
@@ -40,6 +40,9 @@ TEST(BundleGtest, WrittenBundleReadsBackEqual) {
   EXPECT_EQ(b.result.n_particles, r.n_particles);
   EXPECT_EQ(b.result.steps, r.steps);
   EXPECT_EQ(b.result.spacetime.values, r.spacetime.values);  // float32 stored exactly
+  ASSERT_EQ(r.velocity.n_frames, r.spacetime.n_frames);
+  EXPECT_EQ(b.result.velocity.n_rows, r.spacetime.n_rows);
+  EXPECT_EQ(b.result.velocity.values, r.velocity.values);
   ASSERT_EQ(b.result.frames.size(), r.frames.size());
   for (std::size_t i = 0; i < r.frames.size(); ++i) {
     EXPECT_NEAR(b.result.frames[i].sigma_top, r.frames[i].sigma_top,

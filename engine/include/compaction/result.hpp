@@ -77,6 +77,11 @@ struct RunResult {
 
   std::vector<Frame> frames;
   SpaceTimeMap spacetime;
+  // Row-averaged vertical particle velocity / V at the end of each frame (same rows and
+  // frames as spacetime; -1: moving with the top plate, 0: at rest). A compaction band is
+  // where it jumps; the classifier follows reflected bands with it. Empty for bundles written
+  // before it existed.
+  SpaceTimeMap velocity;
   std::vector<Snapshot> snapshots;
 };
 
