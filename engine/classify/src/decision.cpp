@@ -38,10 +38,15 @@ Classification decide(const Features& F, const DecisionSettings& s) {
   // non-reflecting band (1 / (1 - phi)), or reaches the far plate before eps = 1 - phi, leaving
   // pores open behind it (mass conservation, c_b / V = 1 / (1 - phi / phi_f)).
   const double fast = step(F.speed_excess, s.reflecting_excess, 0.05, 0.5);
-  const double early = std::isfinite(F.arrival_eps) &&
-                               F.arrival_eps < (1.0 / F.nonreflecting_speed) / (1.0 + s.reflecting_excess)
-                           ? 0.9 : 0.0;
-  const double reflecting = std::max({F.n_reflections >= 1 ? 0.95 : 0.0, fast, early});
+  // Both the arrival and a seen reflection count when they come before the strain at which a
+  // band within the tolerance would have densified the sample, (1 - phi) / (1 + excess): later
+  // the last open pores close (the reflection of a band that was only slightly too fast).
+  const double dense_eps = (1.0 / F.nonreflecting_speed) / (1.0 + s.reflecting_excess);
+  const double early = std::isfinite(F.arrival_eps) && F.arrival_eps < dense_eps ? 0.9 : 0.0;
+  const double seen = F.n_reflections >= 1 && std::isfinite(F.first_reflection_eps) &&
+                              F.first_reflection_eps < dense_eps
+                          ? 0.95 : 0.0;
+  const double reflecting = std::max({seen, fast, early});
   // Mass conservation also bounds a band from below: c_b / V >= 1 / (1 - phi) (phi_f <= 1). A
   // single front from the top that is clearly slower is activity drifting down row by row, not
   // a band compacting everything it passes (erratic compaction, class (d), can look like that).

@@ -127,6 +127,18 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
   const Front* prim = primary_front(t);
   F.band_speed_ratio = prim ? prim->speed : kNaN;
   F.n_reflections = prim ? prim->n_reflections : 0;
+  F.first_reflection_eps = kNaN;
+  if (prim && !prim->turns.empty() && prim->turns.front().where != Origin::interior) {
+    F.first_reflection_eps = prim->turns.front().eps;
+  }
+  if (r.velocity.n_frames == r.spacetime.n_frames && r.velocity.n_frames > 0) {
+    // The velocity map sees reflections the strain-rate map hides (reflections.hpp).
+    const BandPath band = follow_band(r.velocity, map_axes(p, r), s.tracker);
+    if (band.n_reflections > F.n_reflections) {
+      F.n_reflections = band.n_reflections;
+      F.first_reflection_eps = band.first_reflection_eps;
+    }
+  }
   F.primary_origin = prim ? to_string(prim->origin) : "";
   F.speed_excess = F.band_speed_ratio / F.nonreflecting_speed - 1.0;
   F.arrival_eps = kNaN;
@@ -227,6 +239,7 @@ nlohmann::json to_json(const Features& f) {
       {"two_sided", f.two_sided},
       {"primary_origin", f.primary_origin},
       {"n_reflections", f.n_reflections},
+      {"first_reflection_eps", num(f.first_reflection_eps)},
       {"band_speed_ratio", num(f.band_speed_ratio)},
       {"bottom_speed_ratio", num(f.bottom_speed_ratio)},
       {"nonreflecting_speed", num(f.nonreflecting_speed)},

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compaction/classify/fronts.hpp"
+#include "compaction/classify/reflections.hpp"
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
 
@@ -31,7 +32,9 @@ struct Features {
   bool top_front = false;            // a propagating front starts at the top plate
   bool bottom_front = false;         // a propagating front starts at the bottom plate
   bool two_sided = false;            // a top and a bottom front propagate at the same time
-  int n_reflections = 0;             // reflections at the plates of the primary front
+  int n_reflections = 0;             // reflections at the plates: of the band in the velocity
+                                     // map (reflections.hpp), else turns of the primary front
+  double first_reflection_eps = 0.0; // strain of the first reflection (NaN: none)
   double band_speed_ratio = 0.0;     // c_b / V of the primary front before its first turn (NaN: none)
   double bottom_speed_ratio = 0.0;   // c / V of the strongest bottom front (NaN: none)
   double nonreflecting_speed = 0.0;  // 1 / (1 - phi) with the particles' phi        [-]
