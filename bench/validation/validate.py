@@ -1,18 +1,17 @@
 #!/usr/bin/python3
 """Validation of engine + classifier against Blatny et al., PRL 128, 228002 (2022).
 
-Runs (one simulation at a time, results cached under --work):
-  examples    the paper's six examples at phi = 0.4, pseudo-1D
+Runs (results cached under --work; a cached bundle is not computed again):
+  examples    the paper's six examples at phi = 0.4, pseudo-1D, to full density
   fig3        a line of >= 5 points through class (b): c_b/V and N_r vs q_y/(rho V^2) = R/S^2
-  full2d      examples (a) and (b) in full 2D (17 x 34 cells), c_b/V against pseudo-1D
+  full2d      examples (a) and (b) in full 2D (17 x 34 cells) against pseudo-1D, to eps = 0.2
   resolution  the six examples at several resolutions
 and writes docs/validation.md with the space-time maps copied to docs/validation/.
 
-  bench/validation/validate.py --cells 8 --sections examples,resolution --resolutions 6,8,10
-  bench/validation/validate.py --cells 20 --eps-scale 1          # full strain, default grid
+  bench/validation/validate.py --jobs 2 --resolutions 8,12,20 --full2d-cells 12
 
-Costs grow as cells^3 / S (class (d), S = 1.32e-3, is the slowest). --eps-scale shortens every
-run's final strain (1 = as in EXAMPLES). Runs that exist in --work are not repeated.
+Costs grow as cells^3 / S (class (d), S = 1.32e-3, is the slowest: 15 min at 20 cells per unit
+cell). --eps-scale shortens every run's final strain (1 = as in EXAMPLES).
 """
 import argparse
 import json

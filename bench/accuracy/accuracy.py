@@ -1,0 +1,223 @@
+#!/usr/bin/python3
+"""Run time against error: the paper's examples (a) and (b), a fast and a slow point, over a
+grid of numerics; each run's error against the finest run of its point.
+
+  bench/accuracy/accuracy.py --jobs 2            # all runs (about 75 core-minutes), the report
+  bench/accuracy/accuracy.py --points e --jobs 2 # one point only (the fast one: minutes)
+
+Numerics varied (one at a time from the base, 16 cells per unit cell, 2 x 2 particles per cell,
+APIC, MLS gradient, CFL 0.5): cells per unit cell 8, 12, 16, 20 and the reference 30; particles
+per cell 1 and 3; PIC/FLIP; CFL 0.25 and 1.0; the exact B-spline gradient at 16 and 20 cells.
+The engine keeps F and the transfers in double (the engine issue asks for double F); there is
+no float variant to measure.
+
+Errors against the reference (30 cells, same point, base numerics otherwise):
+  c_b/V        relative difference of the classifier's prereflection band speed (where the
+               reference is a band, (a) or (b));
+  plateau      relative difference of the mean top plate stress over eps in [eps_end/4, eps_end];
+  map          relative L1 norm of the difference of the space-time maps, both averaged over
+               each row of unit cells (the frames share the same strains);
+  label        whether the classifier gives the reference's label.
+Cost is counted in particle-steps (deterministic; one-core time is that times 55-80 ns here), the
+measured wall time is listed too. A run is on the Pareto front when no other run of its point is
+both cheaper and has a smaller largest error. Writes docs/accuracy.md (tables, the commands) and
+docs/accuracy/pareto.png (error against cost per point).
+"""
+import argparse
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+
+PHI = 0.4
+# name: (S, R, eps_end, paper's class or None, what it stands for)
+POINTS = {
+    "a": (4e-3, 1e-5, 0.2, "a", "paper's example (a), non-reflecting band"),
+    "b": (4e-3, 4e-4, 0.2, "b", "paper's example (b), reflecting band"),
+    "e": (1e-1, 1e-5, 0.2, "e", "fast point: example (e), S = 0.1, few steps per strain"),
+    "d": (1.32e-3, 4e-3, 0.1, "d", "slow point: example (d), S = 1.32e-3, most steps per strain"),
+}
+BASE = {"cells_per_unit": 16, "particles_per_cell": 2, "transfer": "apic", "cfl": 0.5,
+        "gradient": "mls"}
+REFERENCE_CELLS = 30
+# variant name: overrides of BASE
+VARIANTS = {
+    "cells 8": {"cells_per_unit": 8},
+    "cells 12": {"cells_per_unit": 12},
+    "cells 16": {},
+    "cells 20": {"cells_per_unit": 20},
+    "cells 30 (reference)": {"cells_per_unit": REFERENCE_CELLS},
+    "cells 16, ppc 1": {"particles_per_cell": 1},
+    "cells 16, ppc 3": {"particles_per_cell": 3},
+    "cells 16, pic_flip": {"transfer": "pic_flip"},
+    "cells 16, cfl 0.25": {"cfl": 0.25},
+    "cells 16, cfl 1.0": {"cfl": 1.0},
+    "cells 16, bspline": {"gradient": "bspline"},
+    "cells 20, bspline": {"cells_per_unit": 20, "gradient": "bspline"},
+}
+# The slow point costs three times per strain: only the resolution levels there.
+SLOW_ONLY = ("cells 8", "cells 12", "cells 16", "cells 20", "cells 30 (reference)")
+
+
+def scene_name(point, flags):
+    keys = ("cells_per_unit", "particles_per_cell", "transfer", "cfl", "gradient")
+    return point + "_" + "_".join(str(flags[k]) for k in keys) + f"_e{flags['eps_end']:g}"
+
+
+def plan(points):
+    scenes = {}
+    for p in points:
+        S, R, eps_end, _, _ = POINTS[p]
+        for v, over in VARIANTS.items():
+            if p == "d" and v not in SLOW_ONLY:
+                continue
+            flags = dict(BASE, **over, S=S, R=R, phi=PHI, eps_end=eps_end, snapshot_eps=min(0.2, eps_end))
+            scenes[(p, v)] = (scene_name(p, flags), flags)
+    return scenes
+
+
+def height_profile(out, s):
+    """The space-time map (frames x rows) averaged over each row of unit cells: the resolution of
+    the structure, so that maps of different grids compare (and a band one grid cell off is
+    not counted as a miss)."""
+    m = np.load(os.path.join(out, s["spacetime"]["file"])).astype(np.float64)
+    cells = s["params"]["n_rows"]
+    per = m.shape[1] // cells
+    return m[:, :per * cells].reshape(m.shape[0], cells, per).mean(axis=2)
+
+
+def measure(out, eps_end):
+    s = runs.summary(out)
+    fr = runs.frames(out)
+    cls = runs.classify(out)
+    lo = eps_end / 4
+    top = [t for e, t in zip(fr["eps"], fr["sigma_top_over_qy"]) if lo <= e <= eps_end + 1e-12]
+    return {"summary": s, "cls": cls, "plateau": sum(top) / len(top) if top else float("nan"),
+            "map": height_profile(out, s), "wall": s["wall_seconds"],
+            "work": s["n_particles"] * s["steps"] / 1e6,
+            "ns": s["ns_per_particle_step"], "status": s["status"]}
+
+
+def rel(a, b):
+    if a is None or b is None or not b:
+        return float("nan")
+    return abs(a - b) / abs(b)
+
+
+def largest(*errors):
+    """The largest finite error (NaN when none is finite)."""
+    finite = [e for e in errors if math.isfinite(e)]
+    return max(finite) if finite else float("nan")
+
+
+def fmt(v, pct=False):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "-"
+    return f"{100 * v:.1f} %" if pct else f"{v:.3g}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--points", default="a,b,e,d", help="comma list of " + ", ".join(POINTS))
+    ap.add_argument("--jobs", type=int, default=1, help="runs at a time (each on one thread)")
+    ap.add_argument("--work", default="/tmp/compaction-accuracy", help="bundles (cached)")
+    ap.add_argument("--no-run", action="store_true", help="report on the bundles present only")
+    ap.add_argument("--report", default=os.path.join(runs.ROOT, "docs", "accuracy.md"))
+    ap.add_argument("--images", default=os.path.join(runs.ROOT, "docs", "accuracy"))
+    args = ap.parse_args()
+    points = [p for p in args.points.split(",") if p]
+    for p in points:
+        if p not in POINTS:
+            ap.error(f"--points: unknown point {p!r}; choose from {', '.join(POINTS)}")
+
+    scenes = plan(points)
+    if args.no_run:
+        dirs = {n: os.path.join(args.work, n) for n, _ in scenes.values()
+                if runs.finished(os.path.join(args.work, n))}
+    else:
+        dirs = runs.run_all(args.work, {n: f for n, f in scenes.values()}, jobs=args.jobs)
+    results = {key: measure(dirs[name], POINTS[key[0]][2]) for key, (name, _) in scenes.items() if name in dirs}
+    points = [p for p in points if (p, "cells 30 (reference)") in results]
+
+    md = ["# Run time against error", "",
+          "Written by `bench/accuracy/accuracy.py "
+          + " ".join(sys.argv[1:]) + "` (see its header for the method). Every run is pseudo-1D, "
+          "phi = 0.4, one thread; the error of each run is measured against the finest run of "
+          f"its point ({REFERENCE_CELLS} cells per unit cell, otherwise the base numerics).", ""]
+    pareto = {}
+    for p in points:
+        S, R, eps_end, paper, what = POINTS[p]
+        ref = results[(p, "cells 30 (reference)")]
+        md += [f"## ({p}) S = {S:g}, R = {R:g}, to eps = {eps_end:g}: {what}", "",
+               f"Reference label **{ref['cls']['class']}** (paper: {paper}), "
+               f"c_b/V = {fmt(ref['cls']['band_speed_ratio'])}, plateau sigma_top/q_y = {fmt(ref['plateau'])}.", "",
+               "| numerics | status | label | c_b/V | error c_b/V | error plateau | error map | "
+               "particle-steps [1e6] | wall [s] | ns/particle-step | Pareto |",
+               "|---|---|---|---|---|---|---|---|---|---|---|"]
+        pts, rows = [], []
+        for v in VARIANTS:
+            r = results.get((p, v))
+            if r is None:
+                continue
+            cb = r["cls"]["band_speed_ratio"]
+            # c_b/V is a band's speed: compared only where the reference is a band, (a) or (b).
+            e_cb = rel(cb, ref["cls"]["band_speed_ratio"]) if ref["cls"]["class"] in ("a", "b") else float("nan")
+            e_pl = rel(r["plateau"], ref["plateau"])
+            e_map = float(np.abs(r["map"] - ref["map"]).sum() / max(np.abs(ref["map"]).sum(), 1e-300)) \
+                if r["map"].shape == ref["map"].shape else float("nan")
+            same = r["cls"]["class"] == ref["cls"]["class"]
+            err = largest(e_cb, e_pl, e_map)
+            rows.append((v, r, cb, same, e_cb, e_pl, e_map, err))
+            if "reference" not in v:
+                pts.append((v, r["work"], e_cb, e_pl, e_map, same))
+        # On the Pareto front: no other run is both cheaper and more accurate (largest error).
+        front = {v for v, r, *_, err in rows if "reference" not in v and not any(
+            o[1]["work"] < r["work"] and o[7] < err for o in rows if "reference" not in o[0])}
+        for v, r, cb, same, e_cb, e_pl, e_map, err in rows:
+            md.append(f"| {v} | {r['status']} | {r['cls']['class']}{'' if same else ' (differs)'} | {fmt(cb)} | "
+                      f"{fmt(e_cb, True)} | {fmt(e_pl, True)} | {fmt(e_map, True)} | {r['work']:.0f} | "
+                      f"{r['wall']:.1f} | {r['ns']:.1f} | {'yes' if v in front else ''} |")
+        md.append("")
+        pareto[p] = pts
+
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, axes = plt.subplots(1, len(points), figsize=(4.2 * len(points), 3.6), squeeze=False)
+        for ax, p in zip(axes[0], points):
+            for v, work, e_cb, e_pl, e_map, same in pareto[p]:
+                err = largest(e_cb, e_pl, e_map)
+                ax.loglog(work, err, "o" if same else "x", color="C0" if v.startswith("cells") and "," not in v else "C1")
+                ax.annotate(v.replace("cells ", ""), (work, err), fontsize=6, xytext=(3, 2), textcoords="offset points")
+            ax.set_title(f"({p})")
+            ax.set_xlabel("particle-steps [1e6] (x 57 ns = one-core time)")
+            ax.set_ylabel("largest relative error")
+        fig.tight_layout()
+        os.makedirs(args.images, exist_ok=True)
+        fig.savefig(os.path.join(args.images, "pareto.png"), dpi=90)
+        plt.close(fig)
+        md += ["![error against cost](accuracy/pareto.png)", "",
+               "Largest of the three relative errors against the cost in particle-steps (run time is "
+               "that times 55-80 ns on one core of this machine; the measured wall times above vary "
+               "by that much with what else ran); blue: resolution levels, "
+               "orange: other numerics at 16 or 20 cells; a cross marks a label that differs from "
+               "the reference's.", ""]
+    except ImportError:
+        pass
+
+    notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
+    if os.path.exists(notes):
+        md += [open(notes).read(), ""]
+    os.makedirs(os.path.dirname(args.report), exist_ok=True)
+    with open(args.report, "w") as f:
+        f.write("\n".join(md))
+    print("wrote", args.report, file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,77 @@
+"""Running compaction-run scenes for the benchmark scripts, cached and in parallel.
+
+A scene is a name plus the runner's flags. Its bundle goes to WORK/name; a bundle that exists
+(summary.json written, which the runner does last) is not computed again, so an interrupted
+script resumes where it stopped. Scenes run as separate processes, `jobs` at a time, each on
+one thread, so wall times stay comparable with one another.
+"""
+import concurrent.futures
+import csv
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+RUN = os.path.join(ROOT, "build", "bin", "compaction-run")
+CLASSIFY = os.path.join(ROOT, "build", "bin", "compaction-classify")
+
+
+def command(out, flags, run=RUN):
+    cmd = [run, "--progress", "none", "--threads", "1", "--out", out]
+    for k, v in flags.items():
+        cmd += ["--" + k.replace("_", "-"), str(v)]
+    return cmd
+
+
+def finished(out):
+    """A bundle that a run completed (ok or unstable); a cancelled run's bundle does not count."""
+    try:
+        return summary(out)["status"] != "cancelled"
+    except (OSError, ValueError, KeyError):
+        return False
+
+
+def run_one(work, name, flags, run=RUN):
+    """Runs one scene unless its bundle exists; returns the bundle directory."""
+    out = os.path.join(work, name)
+    if not finished(out):
+        cmd = command(out, flags, run)
+        print("run", " ".join(cmd[1:]), file=sys.stderr, flush=True)
+        subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
+    return out
+
+
+def run_all(work, scenes, jobs=1, run=RUN):
+    """scenes: {name: flags}. Runs the missing ones, `jobs` at a time; returns {name: dir}."""
+    os.makedirs(work, exist_ok=True)
+    # The most expensive first (steps ~ cells^3 / S per unit strain), so the last to finish
+    # is a cheap one and the lanes stay busy.
+    def cost(item):
+        f = item[1]
+        c = float(f.get("cells_per_unit", 20))
+        n = 17 if f.get("geometry") == "full2d" else 1
+        return -(c ** 3) * n * float(f.get("eps_end", 0.6)) / float(f["S"])
+
+    todo = sorted(scenes.items(), key=cost)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        futures = {name: pool.submit(run_one, work, name, flags, run) for name, flags in todo}
+        return {name: f.result() for name, f in futures.items()}
+
+
+def summary(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def frames(out):
+    """frames.csv as a dict of float columns."""
+    with open(os.path.join(out, "frames.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
+
+
+def classify(out, classify_bin=CLASSIFY):
+    """The classifier's JSON for a bundle (recomputed: the classifier may be newer than the run)."""
+    res = subprocess.run([classify_bin, "--compact", out], check=True, capture_output=True, text=True)
+    return json.loads(res.stdout)
