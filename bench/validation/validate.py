@@ -167,13 +167,15 @@ def main():
 
     if "examples" in sections:
         md += [f"## The six examples (pseudo-1D, {args.cells} cells per unit cell)", "", HEADER]
-        pics = []
+        pics, total = [], 0.0
         for k, (S, R, e) in EXAMPLES.items():
             r = run(args, f"{k}_p1d_{args.cells}_{e * args.eps_scale:g}", S, R, args.cells, e * args.eps_scale)
             md.append(row(k, r))
             tag = f"{k}_p1d_{args.cells}"
             pics.append((k, S, R, copy_map(args, r, tag), stress_plot(args, r, tag)))
-        md += ["", "Space-time maps (height up, eps to the right) and plate stresses:", ""]
+            total += r["wall"]
+        md += ["", f"Total wall time of the six: {total:.0f} s ({total / 60:.1f} min), one thread each, "
+               f"{args.jobs} at a time.", "", "Space-time maps (height up, eps to the right) and plate stresses:", ""]
         for k, S, R, m, st in pics:
             md.append(f"**({k})** S = {S:g}, R = {R:g}: ![{k}]({m})" + (f" ![{k} stress]({st})" if st else ""))
             md.append("")
