@@ -16,83 +16,118 @@ namespace compaction {
 
 namespace {
 
+// The particles' side of one block, structure of arrays: the transfer writes it, the return
+// mapping and the bookkeeping read it.
+struct GatherBlock {
+  alignas(64) double x[kBlock], y[kBlock], v2[kBlock];
+};
+
+// What the transfer of one block reads besides the particles.
+struct GridView {
+  double dx, inv_dx, c_scale, gxo, gyo;
+  std::ptrdiff_t nx;
+  double wrap, width;  // periodic wrap: wrap = width; otherwise 0 and infinity
+  double alpha;        // FLIP share (pic_flip)
+};
+
+// Grid to particle transfer for the n particles of one block, up to the trial Fe. Every array
+// is __restrict, so that the compiler vectorises it across the block: the stencil's nine nodes
+// are loaded per particle (gathers), the rest is arithmetic without branches.
 template <bool kApic, bool kExact>
-COMPACTION_SIMD_CLONES StepMeasure gather(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
-                   std::size_t end, double dt) {
-  const double dx = g.dx, inv_dx = g.inv_dx;
-  const double c_scale = kernel::kInverseInertia * inv_dx * inv_dx;
-  const int nx = g.nx;
-  const int* col = g.col.data();
-  const Node* nodes = g.arrays.nodes.data();
-  const double alpha = s.flip_ratio;
-  const bool periodic = g.periodic_x;
-  const double width = s.width;
+[[gnu::always_inline]] inline void transfer_block(
+    std::size_t n, double dt, const GridView& v, const int* __restrict col,
+    const Node* __restrict nodes, const double* __restrict mx, const double* __restrict my,
+    double* __restrict px, double* __restrict py, double* __restrict pvx,
+    double* __restrict pvy, Mat2* __restrict pc, const Mat2* __restrict pf,
+    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk) {
+  const double dx = v.dx, inv_dx = v.inv_dx, c_scale = v.c_scale, alpha = v.alpha;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto kx = kernel::quadratic(px[i] * inv_dx + v.gxo);
+    const auto ky = kernel::quadratic(py[i] * inv_dx + v.gyo);
+    // B = sum_ab wx_a wy_b v_ab (dx_a, dy_b)^T, summed row by row with the x-weights
+    // (and x-weighted offsets) applied first.
+    const double wdx0 = kx.w[0] * (0 - kx.fx) * dx, wdx1 = kx.w[1] * (1 - kx.fx) * dx,
+                 wdx2 = kx.w[2] * (2 - kx.fx) * dx;
+    const std::ptrdiff_t c0 = col[kx.base + 1], c1 = col[kx.base + 2], c2 = col[kx.base + 3];
+    double vx = 0, vy = 0, bxx = 0, bxy = 0, byx = 0, byy = 0, ox = 0, oy = 0;
+    double gxx = 0, gxy = 0, gyx = 0, gyy = 0;  // exact velocity gradient (times dx)
+#pragma GCC unroll 3
+    for (int b = 0; b < 3; ++b) {
+      const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
+      const std::ptrdiff_t row = (ky.base + b) * v.nx;
+      const Node& n0 = nodes[row + c0];
+      const Node& n1 = nodes[row + c1];
+      const Node& n2 = nodes[row + c2];
+      const double sx = kx.w[0] * n0.vx + kx.w[1] * n1.vx + kx.w[2] * n2.vx;
+      const double sy = kx.w[0] * n0.vy + kx.w[1] * n1.vy + kx.w[2] * n2.vy;
+      const double sdx = wdx0 * n0.vx + wdx1 * n1.vx + wdx2 * n2.vx;
+      const double sdy = wdx0 * n0.vy + wdx1 * n1.vy + wdx2 * n2.vy;
+      vx += wy * sx, vy += wy * sy;
+      bxx += wy * sdx, bxy += wdy * sx;
+      byx += wy * sdy, byy += wdy * sy;
+      if constexpr (kExact) {  // grad w = (dw_a w_b, w_a dw_b) / dx
+        const double tx = kx.dw[0] * n0.vx + kx.dw[1] * n1.vx + kx.dw[2] * n2.vx;
+        const double ty = kx.dw[0] * n0.vy + kx.dw[1] * n1.vy + kx.dw[2] * n2.vy;
+        gxx += wy * tx, gxy += ky.dw[b] * sx;
+        gyx += wy * ty, gyy += ky.dw[b] * sy;
+      }
+      if constexpr (!kApic) {
+        ox += kx.w[0] * wy * mx[row + c0] + kx.w[1] * wy * mx[row + c1] +
+              kx.w[2] * wy * mx[row + c2];
+        oy += kx.w[0] * wy * my[row + c0] + kx.w[1] * wy * my[row + c1] +
+              kx.w[2] * wy * my[row + c2];
+      }
+    }
+    const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
+    pc[i] = c;
+    double vx_new = vx, vy_new = vy;
+    if constexpr (!kApic) {
+      vx_new = alpha * (pvx[i] + vx - ox) + (1.0 - alpha) * vx;
+      vy_new = alpha * (pvy[i] + vy - oy) + (1.0 - alpha) * vy;
+    }
+    pvx[i] = vx_new, pvy[i] = vy_new;
+    gb->v2[i] = vx_new * vx_new + vy_new * vy_new;
+    double x = px[i] + dt * vx;
+    const double y = py[i] + dt * vy;
+    // periodic wrap into [0, width) as arithmetic (the same bits as branches would give)
+    x -= x >= v.width ? v.wrap : 0.0;
+    x += x < 0.0 ? v.wrap : 0.0;
+    px[i] = x, py[i] = y;
+    gb->x[i] = x, gb->y[i] = y;
+
+    const Mat2 grad = kExact ? Mat2{gxx * inv_dx, gxy * inv_dx, gyx * inv_dx, gyy * inv_dx} : c;
+    const Mat2 f = pf[i];  // trial Fe = (I + dt grad v) Fe
+    blk->fxx[i] = f.xx + dt * (grad.xx * f.xx + grad.xy * f.yx);
+    blk->fxy[i] = f.xy + dt * (grad.xx * f.xy + grad.xy * f.yy);
+    blk->fyx[i] = f.yx + dt * (grad.yx * f.xx + grad.yy * f.yx);
+    blk->fyy[i] = f.yy + dt * (grad.yx * f.xy + grad.yy * f.yy);
+  }
+}
+
+template <bool kApic, bool kExact>
+COMPACTION_SIMD_CLONES StepMeasure gather(Particles& P, const Setup& s, const Grid& g,
+                                          std::size_t begin, std::size_t end, double dt) {
+  const GridView view{g.dx,
+                      g.inv_dx,
+                      kernel::kInverseInertia * g.inv_dx * g.inv_dx,
+                      static_cast<double>(g.gx),
+                      static_cast<double>(g.gy),
+                      g.nx,
+                      g.periodic_x ? s.width : 0.0,
+                      g.periodic_x ? s.width : std::numeric_limits<double>::infinity(),
+                      s.flip_ratio};
   StepMeasure m;
   m.y_min = m.x_min = std::numeric_limits<double>::infinity();
   m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
   ReturnMapBlock blk;  // the block's trial Fe in; Fe, tau and the plastic increment out
+  GatherBlock gb;      // positions and squared speeds, for the step's measures
   for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
     const std::size_t nb = std::min(kBlock, end - b0);
-    for (std::size_t i = 0; i < nb; ++i) {
-      const std::size_t p = b0 + i;
-      const auto kx = kernel::quadratic(P.x[p] * inv_dx + g.gx);
-      const auto ky = kernel::quadratic(P.y[p] * inv_dx + g.gy);
-      // B = sum_ab wx_a wy_b v_ab (dx_a, dy_b)^T, summed row by row with the x-weights
-      // (and x-weighted offsets) applied first.
-      const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
-                             kx.w[2] * (2 - kx.fx) * dx};
-      double vx = 0, vy = 0, bxx = 0, bxy = 0, byx = 0, byy = 0, ox = 0, oy = 0;
-      double gxx = 0, gxy = 0, gyx = 0, gyy = 0;  // exact velocity gradient (times dx)
-      for (int b = 0; b < 3; ++b) {
-        const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
-        const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
-        double sx = 0, sy = 0, sdx = 0, sdy = 0, tx = 0, ty = 0;
-        for (int a = 0; a < 3; ++a) {
-          const std::size_t n = row + col[kx.base + 1 + a];
-          const Node& node = nodes[n];
-          sx += kx.w[a] * node.vx, sy += kx.w[a] * node.vy;
-          sdx += wdx[a] * node.vx, sdy += wdx[a] * node.vy;
-          if constexpr (kExact) tx += kx.dw[a] * node.vx, ty += kx.dw[a] * node.vy;
-          if constexpr (!kApic) {
-            ox += kx.w[a] * wy * g.arrays.mx[n];
-            oy += kx.w[a] * wy * g.arrays.my[n];
-          }
-        }
-        vx += wy * sx, vy += wy * sy;
-        bxx += wy * sdx, bxy += wdy * sx;
-        byx += wy * sdy, byy += wdy * sy;
-        if constexpr (kExact) {  // grad w = (dw_a w_b, w_a dw_b) / dx
-          gxx += wy * tx, gxy += ky.dw[b] * sx;
-          gyx += wy * ty, gyy += ky.dw[b] * sy;
-        }
-      }
-      const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
-      P.C[p] = c;
-      if constexpr (kApic) {
-        P.vx[p] = vx, P.vy[p] = vy;
-      } else {
-        P.vx[p] = alpha * (P.vx[p] + vx - ox) + (1.0 - alpha) * vx;
-        P.vy[p] = alpha * (P.vy[p] + vy - oy) + (1.0 - alpha) * vy;
-      }
-      double x = P.x[p] + dt * vx;
-      const double y = P.y[p] + dt * vy;
-      if (periodic) x = x >= width ? x - width : (x < 0.0 ? x + width : x);
-      P.x[p] = x, P.y[p] = y;
-
-      const Mat2 grad =
-          kExact ? Mat2{gxx * inv_dx, gxy * inv_dx, gyx * inv_dx, gyy * inv_dx} : c;
-      const Mat2& f = P.Fe[p];  // trial Fe = (I + dt grad v) Fe
-      blk.fxx[i] = f.xx + dt * (grad.xx * f.xx + grad.xy * f.yx);
-      blk.fxy[i] = f.xy + dt * (grad.xx * f.xy + grad.xy * f.yy);
-      blk.fyx[i] = f.yx + dt * (grad.yx * f.xx + grad.yy * f.yx);
-      blk.fyy[i] = f.yy + dt * (grad.yx * f.xy + grad.yy * f.yy);
-
-      const double v2 = P.vx[p] * P.vx[p] + P.vy[p] * P.vy[p];
-      m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks
-      m.y_min = std::min(m.y_min, y), m.y_max = std::max(m.y_max, y);
-      m.x_min = std::min(m.x_min, x), m.x_max = std::max(m.x_max, x);
-    }
-    return_map_block(blk, nb, s.material);  // vectorised across the block
+    transfer_block<kApic, kExact>(nb, dt, view, g.col.data(), g.arrays.nodes.data(),
+                                  g.arrays.mx.data(), g.arrays.my.data(), P.x.data() + b0,
+                                  P.y.data() + b0, P.vx.data() + b0, P.vy.data() + b0,
+                                  P.C.data() + b0, P.Fe.data() + b0, &gb, &blk);
+    return_map_block(blk, nb, s.material);
     for (std::size_t i = 0; i < nb; ++i) {
       const std::size_t p = b0 + i;
       Mat2& f = P.Fe[p];
@@ -107,6 +142,10 @@ COMPACTION_SIMD_CLONES StepMeasure gather(Particles& P, const Setup& s, const Gr
         plastic = blk.plastic[i];
       }
       P.dep[p] += plastic;  // ep, the running total, is updated once per frame
+      const double v2 = gb.v2[i];
+      m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks
+      m.y_min = std::min(m.y_min, gb.y[i]), m.y_max = std::max(m.y_max, gb.y[i]);
+      m.x_min = std::min(m.x_min, gb.x[i]), m.x_max = std::max(m.x_max, gb.x[i]);
     }
   }
   return m;
