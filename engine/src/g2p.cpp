@@ -72,10 +72,9 @@ template <bool kApic, bool kExact>
         gyx += wy * ty, gyy += ky.dw[b] * sy;
       }
       if constexpr (!kApic) {
-        ox += kx.w[0] * wy * mx[row + c0] + kx.w[1] * wy * mx[row + c1] +
-              kx.w[2] * wy * mx[row + c2];
-        oy += kx.w[0] * wy * my[row + c0] + kx.w[1] * wy * my[row + c1] +
-              kx.w[2] * wy * my[row + c2];
+        ox += kx.w[0] * wy * mx[row + c0], oy += kx.w[0] * wy * my[row + c0];
+        ox += kx.w[1] * wy * mx[row + c1], oy += kx.w[1] * wy * my[row + c1];
+        ox += kx.w[2] * wy * mx[row + c2], oy += kx.w[2] * wy * my[row + c2];
       }
     }
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};

@@ -7,8 +7,10 @@
 // drops the affine part m_p C_p from Q. gradient = bspline takes the stress out of Q and adds
 // the standard MPM force impulse -dt V0 tau_p grad w_ip with the exact B-spline gradient.
 #include <algorithm>
+#include <cstring>
 
 #include "kernel.hpp"
+#include "simd_clones.hpp"
 #include "stages.hpp"
 
 namespace compaction {
@@ -25,9 +27,14 @@ void clear_rows(const Grid& g, NodeArrays& a, bool flip) {
   }
 }
 
+// The four doubles of a Node as one vector (GCC vector extension; two SSE2 or one AVX2 op).
+using Lanes = double __attribute__((vector_size(32)));
+static_assert(sizeof(Lanes) == sizeof(Node));
+
 template <bool kApic, bool kExact>
-void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
-             std::size_t begin, std::size_t end, double dt) {
+COMPACTION_SIMD_CLONES void scatter(const Particles& P, const Setup& s, const Grid& g,
+                                    NodeArrays& out, std::size_t begin, std::size_t end,
+                                    double dt) {
   const double dx = g.dx, inv_dx = g.inv_dx, m = P.mass;
   const double stress = kExact ? 0.0 : -dt * s.scale;
   const double impulse = -dt * s.vol0 * inv_dx;  // exact gradient: dw is per grid cell
@@ -49,22 +56,27 @@ void scatter(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
     // offsets are formed once, each row then adds its y-part.
     const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
                            kx.w[2] * (2 - kx.fx) * dx};
+#pragma GCC unroll 3
     for (int b = 0; b < 3; ++b) {
       const double wy = ky.w[b], dy = (b - ky.fx) * dx;
-      const std::size_t row = static_cast<std::size_t>(ky.base + b) * nx;
+      const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(ky.base + b) * nx;
       const double qx = wy * (mvx + q.xy * dy), qy = wy * (mvy + q.yy * dy);
       const double wm = wy * m, qxx = wy * q.xx, qyx = wy * q.yx;
+      // A node is {m, m vx, m vy, 0}: it gets w_a * lo + wdx_a * hi as one four-lane update
+      // (the zero lanes add exact zeros, so each lane rounds as the scalar sum would).
+      const Lanes lo = {wm, qx, qy, 0.0}, hi = {0.0, qxx, qyx, 0.0};
+#pragma GCC unroll 3
       for (int a = 0; a < 3; ++a) {
-        const std::size_t i = row + col[kx.base + 1 + a];
-        Node& n = nodes[i];
-        n.m += kx.w[a] * wm;
-        n.vx += kx.w[a] * qx + wdx[a] * qxx;
-        n.vy += kx.w[a] * qy + wdx[a] * qyx;
+        const std::ptrdiff_t i = row + col[kx.base + 1 + a];
+        Lanes n;
+        std::memcpy(&n, &nodes[i], sizeof n);
+        n += kx.w[a] * lo + wdx[a] * hi;
         if constexpr (kExact) {  // -dt V0 tau grad w, grad w = (dw_a w_b, w_a dw_b) / dx
           const double gx = kx.dw[a] * wy, gy = kx.w[a] * ky.dw[b];
-          n.vx += sxx * gx + sxy * gy;
-          n.vy += sxy * gx + syy * gy;
+          n[1] += sxx * gx + sxy * gy;
+          n[2] += sxy * gx + syy * gy;
         }
+        std::memcpy(&nodes[i], &n, sizeof n);
         if constexpr (!kApic) {
           out.mx[i] += kx.w[a] * wy * mvx;
           out.my[i] += kx.w[a] * wy * mvy;
