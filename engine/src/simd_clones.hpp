@@ -18,6 +18,19 @@
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX2__) && \
     !defined(COMPACTION_NO_SIMD_CLONES)
 #define COMPACTION_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+// Where the two copies need different code (P2G's node update): a function compiled for AVX2,
+// called when cpu_has_avx2().
+#define COMPACTION_HAS_AVX2_COPY 1
+#define COMPACTION_AVX2 __attribute__((target("avx2")))
+inline bool cpu_has_avx2() { return __builtin_cpu_supports("avx2"); }
 #else
 #define COMPACTION_SIMD_CLONES
+#define COMPACTION_HAS_AVX2_COPY 0
+#endif
+
+// The translation unit itself is compiled for AVX2 (-march with AVX2, COMPACTION_ARCH).
+#ifdef __AVX2__
+inline constexpr bool kCompiledForAvx2 = true;
+#else
+inline constexpr bool kCompiledForAvx2 = false;
 #endif
