@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "kernel.hpp"
-#include "simd_clones.hpp"
+#include "simd_dispatch.hpp"
 #include "stages.hpp"
 
 namespace compaction {
@@ -104,8 +104,8 @@ template <bool kApic, bool kExact>
 }
 
 template <bool kApic, bool kExact>
-COMPACTION_SIMD_CLONES StepMeasure gather(Particles& P, const Setup& s, const Grid& g,
-                                          std::size_t begin, std::size_t end, double dt) {
+[[gnu::always_inline]] inline StepMeasure gather(Particles& P, const Setup& s, const Grid& g,
+                                                 std::size_t begin, std::size_t end, double dt) {
   const GridView view{g.dx,
                       g.inv_dx,
                       kernel::kInverseInertia * g.inv_dx * g.inv_dx,
@@ -150,6 +150,30 @@ COMPACTION_SIMD_CLONES StepMeasure gather(Particles& P, const Setup& s, const Gr
   return m;
 }
 
+// The two compiled copies of the gather (simd_dispatch.hpp), with the same bits.
+template <bool kApic, bool kExact>
+StepMeasure gather_baseline(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
+                            std::size_t end, double dt) {
+  return gather<kApic, kExact>(P, s, g, begin, end, dt);
+}
+
+#if COMPACTION_HAS_AVX2_COPY
+template <bool kApic, bool kExact>
+COMPACTION_AVX2 StepMeasure gather_avx2(Particles& P, const Setup& s, const Grid& g,
+                                        std::size_t begin, std::size_t end, double dt) {
+  return gather<kApic, kExact>(P, s, g, begin, end, dt);
+}
+#endif
+
+template <bool kApic, bool kExact>
+StepMeasure gather_any(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
+                       std::size_t end, double dt) {
+#if COMPACTION_HAS_AVX2_COPY
+  if (run_avx2_copy()) return gather_avx2<kApic, kExact>(P, s, g, begin, end, dt);
+#endif
+  return gather_baseline<kApic, kExact>(P, s, g, begin, end, dt);
+}
+
 StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
   StepMeasure m;
   m.max_v2 = std::isnan(a.max_v2) || std::isnan(b.max_v2) ? std::nan("")
@@ -171,10 +195,10 @@ void g2p(State& s, double dt, ThreadPool& pool) {
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
     Particles& P = s.particles;
     const Grid& g = s.grid;
-    if (apic && !exact) parts[t] = gather<true, false>(P, s.setup, g, b, e, dt);
-    else if (apic) parts[t] = gather<true, true>(P, s.setup, g, b, e, dt);
-    else if (!exact) parts[t] = gather<false, false>(P, s.setup, g, b, e, dt);
-    else parts[t] = gather<false, true>(P, s.setup, g, b, e, dt);
+    if (apic && !exact) parts[t] = gather_any<true, false>(P, s.setup, g, b, e, dt);
+    else if (apic) parts[t] = gather_any<true, true>(P, s.setup, g, b, e, dt);
+    else if (!exact) parts[t] = gather_any<false, false>(P, s.setup, g, b, e, dt);
+    else parts[t] = gather_any<false, true>(P, s.setup, g, b, e, dt);
   });
   StepMeasure m = parts[0];
   for (std::size_t t = 1; t < parts.size(); ++t) m = combine(m, parts[t]);

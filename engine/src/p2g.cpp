@@ -10,7 +10,7 @@
 #include <cstring>
 
 #include "kernel.hpp"
-#include "simd_clones.hpp"
+#include "simd_dispatch.hpp"
 #include "stages.hpp"
 
 namespace compaction {
@@ -97,7 +97,7 @@ template <bool kApic, bool kExact, bool kWide>
   }
 }
 
-// The two compiled copies of the scatter (simd_clones.hpp): the baseline one and, where the
+// The two compiled copies of the scatter (simd_dispatch.hpp): the baseline one and, where the
 // build has one, the AVX2 one with wide node updates. Both give the same bits.
 template <bool kApic, bool kExact>
 void scatter_baseline(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
@@ -118,8 +118,7 @@ template <bool kApic, bool kExact>
 void scatter_any(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
                  std::size_t begin, std::size_t end, double dt) {
 #if COMPACTION_HAS_AVX2_COPY
-  static const bool avx2 = cpu_has_avx2();
-  if (avx2) return scatter_avx2<kApic, kExact>(P, s, g, out, begin, end, dt);
+  if (run_avx2_copy()) return scatter_avx2<kApic, kExact>(P, s, g, out, begin, end, dt);
 #endif
   scatter_baseline<kApic, kExact>(P, s, g, out, begin, end, dt);
 }

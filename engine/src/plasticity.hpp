@@ -109,7 +109,8 @@ struct ReturnMapBlock {
   alignas(64) double redo[kBlock];  // 1: out of the series' range, run return_map instead
 };
 
-inline void return_map_block(ReturnMapBlock& b, std::size_t n, const Material& m) {
+[[gnu::always_inline]] inline void return_map_block(ReturnMapBlock& b, std::size_t n,
+                                                   const Material& m) {
   constexpr double kLimit = 0.03125;  // 2^-5, the series' range (see atanh_small)
   const double lm = m.lambda + m.mu, mu = m.mu, dy = m.d_yield;
   for (std::size_t i = 0; i < n; ++i) {
