@@ -33,64 +33,113 @@ void clear_rows(const Grid& g, NodeArrays& a, bool flip) {
 using Lanes = double __attribute__((vector_size(32)));
 static_assert(sizeof(Lanes) == sizeof(Node));
 
+// What a block of particles brings to its 3 x 3 nodes, structure of arrays: node (a, b) of
+// particle i gets wx_a * lo_b + wdx_a * hi_b with lo_b = {wm_b, qx_b, qy_b, 0} and
+// hi_b = {0, qxx_b, qyx_b, 0} (plus the exact-gradient and FLIP terms of those variants).
+constexpr std::size_t kScatterBlock = 32;
+struct ScatterBlock {
+  static constexpr std::size_t n = kScatterBlock;
+  alignas(64) std::ptrdiff_t col0[n], row0[n];  // first stencil column (into col) and row
+  alignas(64) double wx[3][n], wdx[3][n];       // x-weights, x-weighted offsets
+  alignas(64) double wm[3][n], qx[3][n], qy[3][n], qxx[3][n], qyx[3][n];  // per stencil row
+  alignas(64) double wy[3][n], dwx[3][n], dwy[3][n];  // bspline, pic_flip only
+  alignas(64) double sxx[n], sxy[n], syy[n], mvx[n], mvy[n];
+};
+
+// The per-particle part of the scatter for one block: arithmetic only, vectorised across it.
+template <bool kApic, bool kExact>
+[[gnu::always_inline]] inline void prepare_block(
+    std::size_t n, double dt, const Setup& s, const Grid& g, double m,
+    const double* __restrict px, const double* __restrict py, const double* __restrict pvx,
+    const double* __restrict pvy, const Mat2* __restrict pc, const Sym2* __restrict ptau,
+    ScatterBlock* __restrict sb) {
+  const double dx = g.dx, inv_dx = g.inv_dx, gxo = g.gx, gyo = g.gy;
+  const std::ptrdiff_t nx = g.nx;
+  const double stress = kExact ? 0.0 : -dt * s.scale;
+  const double impulse = -dt * s.vol0 * inv_dx;  // exact gradient: dw is per grid cell
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto kx = kernel::quadratic(px[i] * inv_dx + gxo);
+    const auto ky = kernel::quadratic(py[i] * inv_dx + gyo);
+    const Sym2 t = ptau[i];
+    Mat2 q{stress * t.xx, stress * t.xy, stress * t.xy, stress * t.yy};
+    if constexpr (kApic) {
+      const Mat2 c = pc[i];
+      q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
+    }
+    const double mvx = m * pvx[i], mvy = m * pvy[i];
+    sb->col0[i] = kx.base + 1;
+    sb->row0[i] = ky.base * nx;
+    // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
+    // offsets are formed once, each row then adds its y-part.
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) {
+      sb->wx[a][i] = kx.w[a];
+      sb->wdx[a][i] = kx.w[a] * (a - kx.fx) * dx;
+    }
+#pragma GCC unroll 3
+    for (int b = 0; b < 3; ++b) {
+      const double wy = ky.w[b], dy = (b - ky.fx) * dx;
+      sb->qx[b][i] = wy * (mvx + q.xy * dy), sb->qy[b][i] = wy * (mvy + q.yy * dy);
+      sb->wm[b][i] = wy * m, sb->qxx[b][i] = wy * q.xx, sb->qyx[b][i] = wy * q.yx;
+      if constexpr (kExact || !kApic) sb->wy[b][i] = wy;
+      if constexpr (kExact) sb->dwx[b][i] = kx.dw[b], sb->dwy[b][i] = ky.dw[b];
+    }
+    if constexpr (kExact) {
+      sb->sxx[i] = impulse * t.xx, sb->sxy[i] = impulse * t.xy, sb->syy[i] = impulse * t.yy;
+    }
+    if constexpr (!kApic) sb->mvx[i] = mvx, sb->mvy[i] = mvy;
+  }
+}
+
 // kWide: node updates as Lanes (only in code compiled for AVX2).
 template <bool kApic, bool kExact, bool kWide>
 [[gnu::always_inline]] inline void scatter(const Particles& P, const Setup& s, const Grid& g,
                                            NodeArrays& out, std::size_t begin, std::size_t end,
                                            double dt) {
-  const double dx = g.dx, inv_dx = g.inv_dx, m = P.mass;
-  const double stress = kExact ? 0.0 : -dt * s.scale;
-  const double impulse = -dt * s.vol0 * inv_dx;  // exact gradient: dw is per grid cell
-  const int nx = g.nx;
+  const std::ptrdiff_t nx = g.nx;
   const int* col = g.col.data();
   Node* nodes = out.nodes.data();
-  for (std::size_t p = begin; p < end; ++p) {
-    const auto kx = kernel::quadratic(P.x[p] * inv_dx + g.gx);
-    const auto ky = kernel::quadratic(P.y[p] * inv_dx + g.gy);
-    const Sym2& t = P.tau[p];
-    Mat2 q{stress * t.xx, stress * t.xy, stress * t.xy, stress * t.yy};
-    if constexpr (kApic) {
-      const Mat2& c = P.C[p];
-      q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
-    }
-    const double mvx = m * P.vx[p], mvy = m * P.vy[p];
-    const double sxx = impulse * t.xx, sxy = impulse * t.xy, syy = impulse * t.yy;
-    // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
-    // offsets are formed once, each row then adds its y-part.
-    const double wdx[3] = {kx.w[0] * (0 - kx.fx) * dx, kx.w[1] * (1 - kx.fx) * dx,
-                           kx.w[2] * (2 - kx.fx) * dx};
+  ScatterBlock sb;
+  for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
+    const std::size_t nb = std::min(kScatterBlock, end - b0);
+    prepare_block<kApic, kExact>(nb, dt, s, g, P.mass, P.x.data() + b0, P.y.data() + b0,
+                                 P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
+                                 P.tau.data() + b0, &sb);
+    for (std::size_t k = 0; k < nb; ++k) {
+      const std::ptrdiff_t c0 = col[sb.col0[k]], c1 = col[sb.col0[k] + 1],
+                           c2 = col[sb.col0[k] + 2];
+      const std::ptrdiff_t cs[3] = {c0, c1, c2};
 #pragma GCC unroll 3
-    for (int b = 0; b < 3; ++b) {
-      const double wy = ky.w[b], dy = (b - ky.fx) * dx;
-      const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(ky.base + b) * nx;
-      const double qx = wy * (mvx + q.xy * dy), qy = wy * (mvy + q.yy * dy);
-      const double wm = wy * m, qxx = wy * q.xx, qyx = wy * q.yx;
-      // Node (a, b) gets w_a * lo + wdx_a * hi; the zero lanes add exact zeros, so the wide
-      // update rounds each lane as the scalar one does.
-      const double lo[4] = {wm, qx, qy, 0.0}, hi[4] = {0.0, qxx, qyx, 0.0};
+      for (int b = 0; b < 3; ++b) {
+        const std::ptrdiff_t row = sb.row0[k] + b * nx;
+        // The zero lanes add exact zeros, so the wide update rounds each lane as the scalar
+        // one does.
+        const double lo[4] = {sb.wm[b][k], sb.qx[b][k], sb.qy[b][k], 0.0};
+        const double hi[4] = {0.0, sb.qxx[b][k], sb.qyx[b][k], 0.0};
 #pragma GCC unroll 3
-      for (int a = 0; a < 3; ++a) {
-        const std::ptrdiff_t i = row + col[kx.base + 1 + a];
-        const double wa = kx.w[a], wd = wdx[a];
-        if constexpr (kWide) {
-          Lanes n;
-          std::memcpy(&n, &nodes[i], sizeof n);
-          n += wa * Lanes{lo[0], lo[1], lo[2], lo[3]} + wd * Lanes{hi[0], hi[1], hi[2], hi[3]};
-          std::memcpy(&nodes[i], &n, sizeof n);
-        } else {
-          Node& n = nodes[i];
-          n.m += wa * lo[0];
-          n.vx += wa * lo[1] + wd * hi[1];
-          n.vy += wa * lo[2] + wd * hi[2];
-        }
-        if constexpr (kExact) {  // -dt V0 tau grad w, grad w = (dw_a w_b, w_a dw_b) / dx
-          const double gx = kx.dw[a] * wy, gy = kx.w[a] * ky.dw[b];
-          nodes[i].vx += sxx * gx + sxy * gy;
-          nodes[i].vy += sxy * gx + syy * gy;
-        }
-        if constexpr (!kApic) {
-          out.mx[i] += kx.w[a] * wy * mvx;
-          out.my[i] += kx.w[a] * wy * mvy;
+        for (int a = 0; a < 3; ++a) {
+          const std::ptrdiff_t i = row + cs[a];
+          const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
+          if constexpr (kWide) {
+            Lanes n;
+            std::memcpy(&n, &nodes[i], sizeof n);
+            n += wa * Lanes{lo[0], lo[1], lo[2], lo[3]} + wd * Lanes{hi[0], hi[1], hi[2], hi[3]};
+            std::memcpy(&nodes[i], &n, sizeof n);
+          } else {
+            Node& n = nodes[i];
+            n.m += wa * lo[0];
+            n.vx += wa * lo[1] + wd * hi[1];
+            n.vy += wa * lo[2] + wd * hi[2];
+          }
+          if constexpr (kExact) {  // -dt V0 tau grad w, grad w = (dw_a w_b, w_a dw_b) / dx
+            const double gx = sb.dwx[a][k] * sb.wy[b][k], gy = wa * sb.dwy[b][k];
+            nodes[i].vx += sb.sxx[k] * gx + sb.sxy[k] * gy;
+            nodes[i].vy += sb.sxy[k] * gx + sb.syy[k] * gy;
+          }
+          if constexpr (!kApic) {
+            out.mx[i] += wa * sb.wy[b][k] * sb.mvx[k];
+            out.my[i] += wa * sb.wy[b][k] * sb.mvy[k];
+          }
         }
       }
     }
