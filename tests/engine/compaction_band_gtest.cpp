@@ -1,5 +1,6 @@
-// The paper's non-reflecting band (class a: S = 4e-3, R = 1e-5, phi = 0.4, pseudo-1D) at a
-// resolution a test can afford (16 cells per unit cell, to eps = 0.15).
+// The paper's non-reflecting band (class a: S = 4e-3, R = 1e-5, phi = 0.4, pseudo-1D), to
+// eps = 0.15, at 16 cells per unit cell (what must hold at any resolution) and at 40 (the
+// paper's band speed, which needs the pores to close completely behind the front).
 //
 // What must hold at any resolution, and is checked here:
 // - one front leaves the top plate and moves down steadily;
@@ -11,10 +12,11 @@
 // - volume consistency of the compacted zone: the particles' area sum J V0 never exceeds the
 //   zone's area (pores closed, not particles overlapping), and J stays ~1 (the solid is
 //   elastically stiff, R = 1e-5, and plastically incompressible).
-// The paper's c_b / V = 1 / (1 - phi) needs phi_f = 1 behind the front. At this resolution the
-// pores keep about 2.5 grid cells of gap (single-velocity-field contact engages early), so
-// phi_f < 1 and c_b / V is larger (docs/engine.md, "Known limitation"); the test records the
-// ratio as a property and does not pretend otherwise.
+// The paper's c_b / V = 1 / (1 - phi) needs phi_f = 1 behind the front. Struts only a few cells
+// thick leave the pores partly open (phi_f < 1), so c_b / V is larger, by an excess that falls
+// with resolution (docs/engine.md, "Known limitation"): +23 % at 16 cells per unit cell (the
+// first test records it and checks the invariants), +3.4 % at 40 (the second test checks the
+// engine issue's 5 %).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,12 +62,17 @@ double slope(const std::vector<double>& x, const std::vector<double>& y, double 
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
-TEST(CompactionBandGtest, NonReflectingBandConservesMassAndClosesPoresWithoutOverlap) {
+SceneParams band_scene(int cells_per_unit) {
   SceneParams p;
   p.S = 4e-3, p.R = 1e-5, p.phi = 0.4;
-  p.cells_per_unit = 16;
+  p.cells_per_unit = cells_per_unit;
   p.eps_end = 0.15;
   p.snapshot_eps = {0.12};
+  return p;
+}
+
+TEST(CompactionBandGtest, NonReflectingBandConservesMassAndClosesPoresWithoutOverlap) {
+  const SceneParams p = band_scene(16);
   const RunResult r = run_scene(p);
   ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
 
@@ -132,6 +139,26 @@ TEST(CompactionBandGtest, NonReflectingBandConservesMassAndClosesPoresWithoutOve
   const double predicted = 1.0 / (1.0 - r.phi_discrete / phi_f);
   RecordProperty("band_speed_from_mass_conservation", std::to_string(predicted));
   EXPECT_NEAR(cb / predicted, 1.0, 0.15);
+}
+
+// The engine issue's check: at 40 cells per unit cell (struts 9-18 cells thick) the band runs
+// within 5 % of 1 / (1 - phi) = 1.667 (measured +3.4 %, 1.723; the excess falls roughly as
+// dx^1.8: +23 % at 16, +14 % at 20, +6.6 % at 30). 87 000 particles, 119 000 steps: about 5 min
+// on one core.
+TEST(CompactionBandGtest, NonReflectingBandRunsAtThePapersSpeedWhenStrutsAreResolved) {
+  const SceneParams p = band_scene(40);
+  const RunResult r = run_scene(p);
+  ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+  const Band band = track_front(r);
+  int rises = 0;
+  for (std::size_t f = 1; f < band.front.size(); ++f) {
+    rises += band.front[f] > band.front[f - 1] + 0.02;
+  }
+  EXPECT_EQ(rises, 0) << "the front must not jump back up (no reflection before eps = 0.15)";
+  const double cb = -slope(band.eps, band.front, 0.03);
+  const double paper = 1.0 / (1.0 - p.phi);
+  RecordProperty("band_speed_ratio", std::to_string(cb));
+  EXPECT_NEAR(cb / paper, 1.0, 0.05);
 }
 
 }  // namespace
