@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages compaction-sweep builds and runs with (idempotent; needs root or sudo).
+# usage: scripts/install-deps.sh [--bench]
+#   --bench  also numpy and matplotlib, which the study scripts under bench/ (validation,
+#            accuracy, stability) use for their plots
 set -euo pipefail
 packages=(
   cmake ninja-build g++ git pkg-config
@@ -7,6 +10,12 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
   python3 curl
 )
+for arg in "$@"; do
+  case "$arg" in
+    --bench) packages+=(python3-numpy python3-matplotlib) ;;
+    *) echo "install-deps.sh: unknown option '$arg' (usage: scripts/install-deps.sh [--bench])" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
