@@ -8,7 +8,7 @@ Runs (results cached under --work; a cached bundle is not computed again):
   resolution  the six examples at several resolutions
 and writes docs/validation.md with the space-time maps copied to docs/validation/.
 
-  bench/validation/validate.py --jobs 2 --resolutions 8,12,20 --full2d-cells 12
+  bench/validation/validate.py --jobs 2 --resolutions 8,12,20 --full2d-cells 12,20
 
 Costs grow as cells^3 / S (class (d), S = 1.32e-3, is the slowest: 15 min at 20 cells per unit
 cell). --eps-scale shortens every run's final strain (1 = as in EXAMPLES).
@@ -35,9 +35,9 @@ EXAMPLES = {
     "e": (1e-1, 1e-5, 0.6),
     "f": (4e-3, 1e-1, 0.6),
 }
-# Fig. 3 line: S = 4e-3 fixed, R rising through class (b): R/S^2 = 1.6 (a) ... 62.5.
+# Fig. 3 line: S = 4e-3 fixed, R rising through class (b): R/S^2 = 0.625 (a) ... 62.5.
 FIG3_S = 4e-3
-FIG3_R = [1e-5, 4e-5, 1e-4, 2e-4, 4e-4, 1e-3]
+FIG3_R = [1e-5, 2e-5, 4e-5, 7e-5, 1e-4, 1.4e-4, 2e-4, 3e-4, 4e-4, 6e-4, 1e-3]
 FIG3_EPS = 0.6     # to full density: reflections happen after the band first reaches the bottom
 FULL2D_EPS = 0.2   # 17 times the particles of pseudo-1D: the prereflection band only
 
@@ -53,6 +53,10 @@ def fig3_name(R, cells, eps_end):
 def scene(name, S, R, cells, eps_end, geometry="pseudo1d"):
     return name, {"S": S, "R": R, "phi": PHI, "cells_per_unit": cells, "eps_end": eps_end,
                   "geometry": geometry, "snapshot_eps": min(0.2, eps_end)}
+
+
+def full2d_cells(args):
+    return [int(x) for x in args.full2d_cells.split(",")] if args.full2d_cells else [args.cells]
 
 
 def plan(args, sections):
@@ -71,12 +75,12 @@ def plan(args, sections):
         for R in FIG3_R:
             add(scene(fig3_name(R, c3, FIG3_EPS * args.eps_scale), FIG3_S, R, c3, FIG3_EPS * args.eps_scale))
     if "full2d" in sections:
-        c2 = args.full2d_cells or args.cells
-        for k in ("a", "b"):
-            S, R, _ = EXAMPLES[k]
-            e = FULL2D_EPS * args.eps_scale
-            add(scene(f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d"))
-            add(scene(f"{k}_p1d_{c2}_{e:g}", S, R, c2, e))
+        for c2 in full2d_cells(args):
+            for k in ("a", "b"):
+                S, R, _ = EXAMPLES[k]
+                e = FULL2D_EPS * args.eps_scale
+                add(scene(f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d"))
+                add(scene(f"{k}_p1d_{c2}_{e:g}", S, R, c2, e))
     return out
 
 
@@ -145,7 +149,8 @@ def main():
     ap.add_argument("--cells", type=int, default=20, help="cells per unit cell of the examples")
     ap.add_argument("--resolutions", default="8,12,16", help="comma list for the resolution study")
     ap.add_argument("--fig3-cells", type=int, default=None, help="resolution of the Fig. 3 line")
-    ap.add_argument("--full2d-cells", type=int, default=None)
+    ap.add_argument("--full2d-cells", default=None,
+                    help="comma list of resolutions of the full-2D comparison (default: --cells)")
     ap.add_argument("--eps-scale", type=float, default=1.0)
     ap.add_argument("--sections", default="examples,fig3,full2d,resolution")
     ap.add_argument("--work", default="/tmp/compaction-validation")
@@ -214,6 +219,15 @@ def main():
             n = len(xs); mx = sum(xs) / n; my = sum(ys) / n
             slope = sum((a - mx) * (b - my) for a, b in zip(xs, ys)) / sum((a - mx) ** 2 for a in xs)
             md += ["", f"Fitted exponent over the class-(b) points: c_b/V ~ (q_y/(rho V^2))^{slope:.3f} ({n} points)."]
+        # The checks, over the points labelled (b), in order of q_y/(rho V^2)
+        b_pts = [r["cls"] for _, r in pts if r["cls"]["class"] == "b"]
+        speeds = [c["band_speed_ratio"] for c in b_pts]
+        nrs = [c["n_reflections"] for c in b_pts]
+        rising = all(a is not None and b is not None and b > a for a, b in zip(speeds, speeds[1:]))
+        not_falling = all(b >= a for a, b in zip(nrs, nrs[1:]))
+        md += ["", f"Checks over the {len(b_pts)} points labelled (b) (at least five asked for): "
+               f"c_b/V rises with q_y/(rho V^2): {'yes' if rising else '**no**'}; "
+               f"N_r does not fall: {'yes' if not_falling else '**no**'} (N_r {', '.join(map(str, nrs))})."]
         try:
             import matplotlib
             matplotlib.use("Agg")
@@ -231,15 +245,21 @@ def main():
         md.append("")
 
     if "full2d" in sections:
-        c2 = args.full2d_cells or args.cells
-        md += [f"## Full 2D (17 x 34 cells, {c2} cells per unit cell) against pseudo-1D", "", HEADER]
-        for k in ("a", "b"):
-            S, R, _ = EXAMPLES[k]
-            e = FULL2D_EPS * args.eps_scale
-            r2 = run(args, f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d")
-            r1 = run(args, f"{k}_p1d_{c2}_{e:g}", S, R, c2, e)
-            md += [row(k, r2), row(k, r1)]
-        md.append("")
+        for c2 in full2d_cells(args):
+            md += [f"## Full 2D (17 x 34 cells, {c2} cells per unit cell) against pseudo-1D", "", HEADER]
+            gaps = []
+            for k in ("a", "b"):
+                S, R, _ = EXAMPLES[k]
+                e = FULL2D_EPS * args.eps_scale
+                r2 = run(args, f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d")
+                r1 = run(args, f"{k}_p1d_{c2}_{e:g}", S, R, c2, e)
+                md += [row(k, r2), row(k, r1)]
+                v2, v1 = r2["cls"]["band_speed_ratio"], r1["cls"]["band_speed_ratio"]
+                same = r2["cls"]["class"] == r1["cls"]["class"]
+                gap = f"{100 * (v2 / v1 - 1):+.1f} %" if v1 and v2 else "-"
+                gaps.append(f"({k}): full 2D labelled {r2['cls']['class']}, pseudo-1D {r1['cls']['class']} "
+                            f"({'same' if same else '**different**'}); c_b/V full 2D against pseudo-1D {gap}")
+            md += [""] + [f"- {g}" for g in gaps] + [""]
 
     notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
     if os.path.exists(notes):  # what was found, written by hand for the measured resolution
