@@ -15,14 +15,17 @@ print("# Engine benchmark: reference scene\n")
 print("pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, S = 4e-3, "
       "R = 1e-5, eps 0 -> 0.008 (about 3200 steps). Medians of 5 repetitions.\n")
 print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}. "
-      f"Engine built Release (-O3, x86-64 baseline); the Google Benchmark library itself is "
-      f"Debian's ({ctx.get('library_build_type')} build), which only drives the timing loop.\n")
+      f"Engine built Release (-O3, x86-64 baseline, with an AVX2 copy of the particle loops that "
+      f"runs where the processor has AVX2; both copies give the same bits, engine/src/"
+      f"simd_dispatch.hpp); the Google Benchmark library itself is Debian's "
+      f"({ctx.get('library_build_type')} build), which only drives the timing loop.\n")
 print("Command: `bench/run_engine_bench.sh`\n")
-print("| variant | ns / particle-step | P2G | grid update | G2P + plasticity | diagnostics | wall (ms) |")
-print("|---|---|---|---|---|---|---|")
+print("| variant | copy of the loops | ns / particle-step | P2G | grid update | G2P + plasticity | "
+      "diagnostics | wall (ms) |")
+print("|---|---|---|---|---|---|---|---|")
 for name, b in rows.items():
-    print(f"| {name} | {b['ns_per_particle_step']:.1f} | {b['p2g_ns']:.1f} | {b['grid_ns']:.1f} | "
-          f"{b['g2p_ns']:.1f} | {b['diag_ns']:.1f} | {b['real_time']:.0f} |")
+    print(f"| {name} | {b.get('label', '-')} | {b['ns_per_particle_step']:.1f} | {b['p2g_ns']:.1f} | "
+          f"{b['grid_ns']:.1f} | {b['g2p_ns']:.1f} | {b['diag_ns']:.1f} | {b['real_time']:.0f} |")
 base = rows.get("ReferenceScene_Apic_1Thread")
 if base:
     print("\nRatios to ReferenceScene_Apic_1Thread (ns / particle-step):\n")
