@@ -126,7 +126,8 @@ template <bool kApic, bool kExact>
                                   g.arrays.mx.data(), g.arrays.my.data(), P.x.data() + b0,
                                   P.y.data() + b0, P.vx.data() + b0, P.vy.data() + b0,
                                   P.C.data() + b0, P.Fe.data() + b0, &gb, &blk);
-    return_map_block(blk, nb, s.material);
+    return_map_block<false>(blk, nb, s.material);
+    if (any_redo(blk, nb)) return_map_block<true>(blk, nb, s.material);
     for (std::size_t i = 0; i < nb; ++i) {
       const std::size_t p = b0 + i;
       Mat2& f = P.Fe[p];

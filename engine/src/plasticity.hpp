@@ -36,17 +36,36 @@ struct Sym2 {
   double xx, xy, yy;
 };
 
-// atanh(z) to full double precision, fast for the small arguments of elastic strains: its
-// series z + z^3/3 + ... + z^11/11 when |z| < 2^-5 (the first omitted term is below 1e-19 of
-// the result), std::atanh elsewhere.
+// atanh(z) by its series z + z^3/3 + ... + z^11/11, for |z| < 2^-5 (the first omitted term is
+// below 1e-19 of the result). Estrin's scheme: three independent pairs, so the polynomial is a
+// short dependency chain.
+inline double atanh_series_short(double z) {
+  const double z2 = z * z, z4 = z2 * z2;
+  const double p01 = 1.0 + z2 * (1.0 / 3), p23 = 1.0 / 5 + z2 * (1.0 / 7),
+               p45 = 1.0 / 9 + z2 * (1.0 / 11);
+  return z * (p01 + z4 * (p23 + z4 * p45));
+}
+
+// The same series to z^27, for |z| < 1/4 (the first omitted term, z^29/29, is below 5e-19 of
+// the result): the elastic strains of strong solids (R up to 0.1 yields at strain differences
+// of 0.15).
+inline double atanh_series_long(double z) {
+  const double z2 = z * z;
+  double p = 1.0 / 27;
+  p = 1.0 / 25 + z2 * p, p = 1.0 / 23 + z2 * p, p = 1.0 / 21 + z2 * p, p = 1.0 / 19 + z2 * p;
+  p = 1.0 / 17 + z2 * p, p = 1.0 / 15 + z2 * p, p = 1.0 / 13 + z2 * p, p = 1.0 / 11 + z2 * p;
+  p = 1.0 / 9 + z2 * p, p = 1.0 / 7 + z2 * p, p = 1.0 / 5 + z2 * p, p = 1.0 / 3 + z2 * p;
+  return z * (1.0 + z2 * p);
+}
+
+inline constexpr double kShortSeries = 0.03125, kLongSeries = 0.25;
+
+// atanh(z) to full double precision, fast for the small arguments of elastic strains: the
+// series above where they hold, std::atanh beyond.
 inline double atanh_small(double z) {
-  if (std::abs(z) < 0.03125) {
-    // Estrin's scheme: three independent pairs, so the polynomial is a short dependency chain.
-    const double z2 = z * z, z4 = z2 * z2;
-    const double p01 = 1.0 + z2 * (1.0 / 3), p23 = 1.0 / 5 + z2 * (1.0 / 7),
-                 p45 = 1.0 / 9 + z2 * (1.0 / 11);
-    return z * (p01 + z4 * (p23 + z4 * p45));
-  }
+  const double a = std::abs(z);
+  if (a < kShortSeries) return atanh_series_short(z);
+  if (a < kLongSeries) return atanh_series_long(z);
   return std::atanh(z);
 }
 
@@ -94,8 +113,9 @@ inline double return_map(Mat2& fe, const Material& m, Sym2& tau) {
 // vectorises it across particles (structure of arrays, no branch, no library call; checked with
 // -fopt-info-vec-optimized): sqrt needs -fno-math-errno, selects are arithmetic, and atanh,
 // log and cosh/sinh are their series. Outside the series' range (|2r/(a+e)| or |(J-1)/(J+1)|
-// or the plastic k at or above 2^-5), or when J <= 0 or any input is not finite, a particle is
-// marked in `redo` and its caller runs the scalar return_map on it instead. In range the
+// at or above 2^-5 or 1/4, see kLong below, the plastic k at or above 2^-5), or when J <= 0 or
+// any input is not finite, a particle is marked in `redo` and its caller runs the scalar
+// return_map on it instead. In range the
 // elastic part (log J, d_e, N, tau) is the scalar function's arithmetic step for step, so the
 // two agree to the last bit; the plastic correction differs only in the rounding of cosh and
 // sinh (series here, exp there), within 2 ulp.
@@ -109,9 +129,22 @@ struct ReturnMapBlock {
   alignas(64) double redo[kBlock];  // 1: out of the series' range, run return_map instead
 };
 
+// Some particle of the block was handed back.
+inline bool any_redo(const ReturnMapBlock& b, std::size_t n) {
+  double any = 0.0;
+  for (std::size_t i = 0; i < n; ++i) any += b.redo[i];
+  return any != 0.0;
+}
+
+//
+// kLong = false uses only the short series (|z| < 2^-5, the elastic strains of weak solids) and
+// hands back everything beyond; kLong = true also the long one (|z| < 1/4). The caller runs the
+// short pass and repeats the block with the long one only when some particle was handed back:
+// computing both series for every particle costs the common case 17 % of its step.
+template <bool kLong>
 [[gnu::always_inline]] inline void return_map_block(ReturnMapBlock& b, std::size_t n,
                                                    const Material& m) {
-  constexpr double kLimit = 0.03125;  // 2^-5, the series' range (see atanh_small)
+  constexpr double range = kLong ? kLongSeries : kShortSeries;
   const double lm = m.lambda + m.mu, mu = m.mu, dy = m.d_yield;
   for (std::size_t i = 0; i < n; ++i) {
     const double xx = b.fxx[i], xy = b.fxy[i], yx = b.fyx[i], yy = b.fyy[i];
@@ -122,13 +155,13 @@ struct ReturnMapBlock {
     const double r = std::sqrt(r2);
     const double z = 2.0 * r / (a + e);
     const double zj = (J - 1.0) / (J + 1.0);
-    // atanh_small's series, the same operations in the same order (Estrin's scheme)
-    const double z2 = z * z, z4 = z2 * z2;
-    const double d_trial = z * ((1.0 + z2 * (1.0 / 3)) +
-                                z4 * ((1.0 / 5 + z2 * (1.0 / 7)) + z4 * (1.0 / 9 + z2 * (1.0 / 11))));
-    const double j2 = zj * zj, j4 = j2 * j2;
-    const double log_j = 2.0 * (zj * ((1.0 + j2 * (1.0 / 3)) +
-                                      j4 * ((1.0 / 5 + j2 * (1.0 / 7)) + j4 * (1.0 / 9 + j2 * (1.0 / 11)))));
+    // atanh_small's series (with kLong both computed and one selected: the same bits as its
+    // branches)
+    double d_trial = atanh_series_short(z), log_j = 2.0 * atanh_series_short(zj);
+    if constexpr (kLong) {
+      d_trial = std::abs(z) < kShortSeries ? d_trial : atanh_series_long(z);
+      log_j = std::abs(zj) < kShortSeries ? log_j : 2.0 * atanh_series_long(zj);
+    }
     // 1 / r bit for bit where it matters (r + 1e-300 == r for r > 1e-284); an isotropic state
     // (r = 0) has h = c = 0, so N = 0 as in return_map.
     const double inv_r = 1.0 / (r + 1e-300);
@@ -151,7 +184,8 @@ struct ReturnMapBlock {
     b.txy[i] = mu * d_e * nxy;
     b.tyy[i] = p + mu * d_e * -nxx;
     // Everything outside the series' range, J <= 0 and NaN fail these comparisons.
-    const bool ok = (std::abs(z) < kLimit) & (std::abs(zj) < kLimit) & (k < kLimit) & (J > 0.0);
+    const bool ok = (std::abs(z) < range) & (std::abs(zj) < range) & (k < kShortSeries) &
+                    (J > 0.0);
     b.redo[i] = ok ? 0.0 : 1.0;
   }
 }

@@ -139,7 +139,10 @@ TEST(PlasticityGtest, SeriesLogarithmAndAtanhMatchTheLibrary) {
   for (double x = 0.8; x < 1.25; x += 1e-4) {
     EXPECT_NEAR(log_near_one(x), std::log(x), 4.5e-16 * std::max(1.0, std::abs(std::log(x))));
   }
-  for (double z : {0.0, 1e-12, -3e-7, 1e-3, 0.03, -0.031, 0.04, 0.5}) {
+  for (double x = 0.6; x < 1.6; x += 1e-3) {  // the long series, |z| up to 1/4
+    EXPECT_NEAR(log_near_one(x), std::log(x), 4.5e-16 * std::max(1.0, std::abs(std::log(x))));
+  }
+  for (double z : {0.0, 1e-12, -3e-7, 1e-3, 0.03, -0.031, 0.04, -0.1, 0.2, 0.249, 0.25, 0.5}) {
     EXPECT_NEAR(atanh_small(z), std::atanh(z), 4.5e-16 * std::abs(std::atanh(z)) + 1e-300);
   }
 }
@@ -160,14 +163,14 @@ TEST(PlasticityGtest, BlockReturnMapEqualsScalarOrHandsTheParticleBack) {
     std::vector<bool> in_range;  // what the series cover, from the construction
     // principal stretches exp(+-d/2) J^(1/2), rotated by theta before and psi after
     for (const double d : {0.0, 1e-9, 0.3 * m.d_yield, 0.999 * m.d_yield, 1.001 * m.d_yield,
-                           1.5 * m.d_yield, 0.02, 0.07}) {
-      for (const double J : {1.0, 0.999, 1.02, 0.9}) {
+                           1.5 * m.d_yield, 0.02, 0.07, 0.6}) {
+      for (const double J : {1.0, 0.999, 1.02, 0.9, 0.5}) {
         const double th = 0.3 + 7 * d, ps = -1.1 + 3 * J;
         const double s1 = std::sqrt(J) * std::exp(d / 2), s2 = std::sqrt(J) * std::exp(-d / 2);
         const Mat2 rt{std::cos(th), -std::sin(th), std::sin(th), std::cos(th)};
         const Mat2 rp{std::cos(ps), -std::sin(ps), std::sin(ps), std::cos(ps)};
         trial.push_back(mul(mul(rt, Mat2{s1, 0, 0, s2}), rp));
-        in_range.push_back(std::tanh(d) < 1.0 / 32 && std::abs((J - 1) / (J + 1)) < 1.0 / 32 &&
+        in_range.push_back(std::tanh(d) < 0.25 && std::abs((J - 1) / (J + 1)) < 0.25 &&
                            (d - m.d_yield) / 2 < 1.0 / 32);
       }
     }
@@ -179,7 +182,12 @@ TEST(PlasticityGtest, BlockReturnMapEqualsScalarOrHandsTheParticleBack) {
       blk.fxx[i] = trial[i].xx, blk.fxy[i] = trial[i].xy;
       blk.fyx[i] = trial[i].yx, blk.fyy[i] = trial[i].yy;
     }
-    return_map_block(blk, trial.size(), m);
+    return_map_block<false>(blk, trial.size(), m);
+    int short_handed_back = 0;
+    for (std::size_t i = 0; i < trial.size(); ++i) short_handed_back += blk.redo[i] != 0.0;
+    EXPECT_TRUE(any_redo(blk, trial.size()));
+    EXPECT_GT(short_handed_back, 2 + 13);  // the short pass hands back more than the long one
+    return_map_block<true>(blk, trial.size(), m);
     int handed_back = 0, yielded = 0;
     for (std::size_t i = 0; i < trial.size(); ++i) {
       Mat2 fe = trial[i];
@@ -205,8 +213,9 @@ TEST(PlasticityGtest, BlockReturnMapEqualsScalarOrHandsTheParticleBack) {
       EXPECT_NEAR(blk.eyx[i], fe.yx, tol);
       EXPECT_NEAR(blk.eyy[i], fe.yy, tol);
     }
-    // The inverted and the NaN state always go back, and so does J = 0.9 (outside the log series).
-    EXPECT_GE(handed_back, 2 + 8);
+    // The inverted and the NaN state always go back, and so do d = 0.6 and J = 0.5 (outside
+    // the long series), 9 + 5 - 1 states.
+    EXPECT_GE(handed_back, 2 + 13);
     if (R < 1e-2) {
       EXPECT_GT(yielded, 0);  // the comparison covered the plastic branch
     }
