@@ -11,7 +11,7 @@
 // How a stage makes its two copies: the loop is an always-inline template, instantiated once
 // in a plain function and once in a COMPACTION_AVX2 one, and the stage calls one of them.
 // Reference scene, one core (bench/results/engine_bench.md): 57 ns per particle-step with the
-// scalar loops of engine 0.2.0; the blocked loops run at 44 ns as the baseline copy and 27 ns
+// scalar loops of engine 0.2.0; the blocked loops run at 45 ns as the baseline copy and 27 ns
 // as the AVX2 copy.
 #pragma once
 
