@@ -6,6 +6,8 @@
 // pic_flip keeps the momentum m_p v_p apart (mx, my) so the grid update can form v_old, and
 // drops the affine part m_p C_p from Q. gradient = bspline takes the stress out of Q and adds
 // the standard MPM force impulse -dt V0 tau_p grad w_ip with the exact B-spline gradient.
+// Particles go in blocks of kScatterBlock: their coefficients first (vectorised across the
+// block), then their node updates (simd_dispatch.hpp: a baseline and an AVX2 copy).
 #include <algorithm>
 #include <cstring>
 
