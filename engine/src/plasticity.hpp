@@ -109,16 +109,7 @@ inline double return_map(Mat2& fe, const Material& m, Sym2& tau) {
   return plastic;
 }
 
-// The same return mapping for a block of particles at once, written so that the compiler
-// vectorises it across particles (structure of arrays, no branch, no library call; checked with
-// -fopt-info-vec-optimized): sqrt needs -fno-math-errno, selects are arithmetic, and atanh,
-// log and cosh/sinh are their series. Outside the series' range (|2r/(a+e)| or |(J-1)/(J+1)|
-// at or above 2^-5 or 1/4, see kLong below, the plastic k at or above 2^-5), or when J <= 0 or
-// any input is not finite, a particle is marked in `redo` and its caller runs the scalar
-// return_map on it instead. In range the
-// elastic part (log J, d_e, N, tau) is the scalar function's arithmetic step for step, so the
-// two agree to the last bit; the plastic correction differs only in the rounding of cosh and
-// sinh (series here, exp there), within 2 ulp.
+// A block of particles for return_map_block, structure of arrays.
 inline constexpr std::size_t kBlock = 64;
 
 struct ReturnMapBlock {
@@ -136,6 +127,16 @@ inline bool any_redo(const ReturnMapBlock& b, std::size_t n) {
   return any != 0.0;
 }
 
+// The same return mapping for a block of particles at once, written so that the compiler
+// vectorises it across particles (no branch, no library call; checked with
+// -fopt-info-vec-optimized): sqrt needs -fno-math-errno, selects are arithmetic, and atanh,
+// log and cosh/sinh are their series. A particle outside the series' range (|2r/(a+e)| or
+// |(J-1)/(J+1)| at or above the range below, the plastic k at or above 2^-5), with J <= 0 or
+// with an input that is not finite is marked in `redo`, and its caller runs the scalar
+// return_map on it instead. In range the elastic part (log J, d_e, N, tau) is the scalar
+// function's arithmetic step for step, so the two agree to the last bit; the plastic
+// correction differs only in the rounding of cosh and sinh (series here, exp there), within
+// 2 ulp.
 //
 // kLong = false uses only the short series (|z| < 2^-5, the elastic strains of weak solids) and
 // hands back everything beyond; kLong = true also the long one (|z| < 1/4). The caller runs the
