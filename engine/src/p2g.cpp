@@ -108,9 +108,7 @@ template <bool kApic, bool kExact, bool kWide>
                                  P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
                                  P.tau.data() + b0, &sb);
     for (std::size_t k = 0; k < nb; ++k) {
-      const std::ptrdiff_t c0 = col[sb.col0[k]], c1 = col[sb.col0[k] + 1],
-                           c2 = col[sb.col0[k] + 2];
-      const std::ptrdiff_t cs[3] = {c0, c1, c2};
+      const std::ptrdiff_t cs[3] = {col[sb.col0[k]], col[sb.col0[k] + 1], col[sb.col0[k] + 2]};
 #pragma GCC unroll 3
       for (int b = 0; b < 3; ++b) {
         const std::ptrdiff_t row = sb.row0[k] + b * nx;

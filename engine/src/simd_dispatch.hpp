@@ -15,8 +15,7 @@
 // as the AVX2 copy.
 #pragma once
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX2__) && \
-    !defined(COMPACTION_NO_SIMD_COPIES)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX2__)
 #define COMPACTION_HAS_AVX2_COPY 1
 #define COMPACTION_AVX2 __attribute__((target("avx2")))
 #else

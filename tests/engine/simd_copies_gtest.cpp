@@ -1,8 +1,8 @@
 // The hot loops' AVX2 copy gives the same result bits as their baseline copy
 // (engine/src/simd_dispatch.hpp), so that a result does not depend on the processor a worker
 // runs on. Small scenes that reach every variant of both loops: APIC and PIC/FLIP, MLS and
-// B-spline gradients, plastic particles and particles the blocked return mapping hands back to
-// the scalar one (large elastic strain, R = 0.1), pseudo-1D and full 2D, one and two threads.
+// B-spline gradients, plastic particles and particles whose large elastic strains (R = 0.1) need
+// the return mapping's long series, pseudo-1D and full 2D, one and two threads.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -49,7 +49,7 @@ class SimdCopiesGtest : public testing::TestWithParam<std::string> {
 SceneParams case_params(const std::string& name) {
   SceneParams p = scene(0.05, 1e-3);
   if (name == "ApicMlsPlasticBand") return p;
-  if (name == "LargeElasticStrainTakesTheScalarReturnMap") return scene(0.05, 0.1);
+  if (name == "LargeElasticStrainTakesTheLongSeries") return scene(0.05, 0.1);
   if (name == "PicFlipBspline") {
     p.transfer = Transfer::pic_flip, p.gradient = Gradient::bspline;
     return p;
@@ -80,7 +80,7 @@ TEST_P(SimdCopiesGtest, Avx2CopyGivesTheBaselineBits) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SimdCopiesGtest,
                          testing::Values("ApicMlsPlasticBand",
-                                         "LargeElasticStrainTakesTheScalarReturnMap",
+                                         "LargeElasticStrainTakesTheLongSeries",
                                          "PicFlipBspline", "Full2dBsplineTwoThreads",
                                          "ApicMlsTwoThreads"),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
