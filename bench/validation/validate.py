@@ -8,7 +8,7 @@ Runs (results cached under --work; a cached bundle is not computed again):
   resolution  the six examples at several resolutions
 and writes docs/validation.md with the space-time maps copied to docs/validation/.
 
-  bench/validation/validate.py --jobs 2 --resolutions 8,12,20 --full2d-cells 12,20
+  bench/validation/validate.py --jobs 2 --resolutions 8,12,20 --fig3-cells 20,30 --full2d-cells 12,20
 
 Costs grow as cells^3 / S (class (d), S = 1.32e-3, is the slowest: 15 min at 20 cells per unit
 cell). --eps-scale shortens every run's final strain (1 = as in EXAMPLES).
@@ -59,6 +59,27 @@ def full2d_cells(args):
     return [int(x) for x in args.full2d_cells.split(",")] if args.full2d_cells else [args.cells]
 
 
+def fig3_cells(args):
+    return [int(x) for x in args.fig3_cells.split(",")] if args.fig3_cells else [args.cells]
+
+
+def ranks(v):
+    order = sorted(range(len(v)), key=lambda i: v[i])
+    out = [0.0] * len(v)
+    for r, i in enumerate(order):
+        out[i] = float(r)
+    return out
+
+
+def spearman(x, y):
+    """Rank correlation (no ties expected): +1 when y rises with x at every step."""
+    rx, ry = ranks(x), ranks(y)
+    n = len(x); m = (n - 1) / 2
+    sxy = sum((a - m) * (b - m) for a, b in zip(rx, ry))
+    sxx = sum((a - m) ** 2 for a in rx)
+    return sxy / sxx if sxx else float("nan")
+
+
 def plan(args, sections):
     """Every run the requested sections need, as {name: flags}."""
     out = {}
@@ -71,9 +92,9 @@ def plan(args, sections):
             for k, (S, R, e) in EXAMPLES.items():
                 add(scene(f"{k}_p1d_{c}_{e * args.eps_scale:g}", S, R, c, e * args.eps_scale))
     if "fig3" in sections:
-        c3 = args.fig3_cells or args.cells
-        for R in FIG3_R:
-            add(scene(fig3_name(R, c3, FIG3_EPS * args.eps_scale), FIG3_S, R, c3, FIG3_EPS * args.eps_scale))
+        for c3 in fig3_cells(args):
+            for R in FIG3_R:
+                add(scene(fig3_name(R, c3, FIG3_EPS * args.eps_scale), FIG3_S, R, c3, FIG3_EPS * args.eps_scale))
     if "full2d" in sections:
         for c2 in full2d_cells(args):
             for k in ("a", "b"):
@@ -148,7 +169,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cells", type=int, default=20, help="cells per unit cell of the examples")
     ap.add_argument("--resolutions", default="8,12,16", help="comma list for the resolution study")
-    ap.add_argument("--fig3-cells", type=int, default=None, help="resolution of the Fig. 3 line")
+    ap.add_argument("--fig3-cells", default=None,
+                    help="comma list of resolutions of the Fig. 3 line (default: --cells)")
     ap.add_argument("--full2d-cells", default=None,
                     help="comma list of resolutions of the full-2D comparison (default: --cells)")
     ap.add_argument("--eps-scale", type=float, default=1.0)
@@ -201,45 +223,49 @@ def main():
         md.append("")
 
     if "fig3" in sections:
-        c3 = args.fig3_cells or args.cells
-        pts = []
-        for R in FIG3_R:
+        lines = []
+        for c3 in fig3_cells(args):
             e = FIG3_EPS * args.eps_scale
-            r = run(args, fig3_name(R, c3, e), FIG3_S, R, c3, e)
-            pts.append((R / FIG3_S ** 2, r))
-        md += [f"## Band speed vs q_y/(rho V^2) (Fig. 3 line, S = {FIG3_S:g}, pseudo-1D, {c3} cells per unit cell)", "",
-               "| q_y/(rho V^2) = R/S^2 | R | class | N_r | c_b/V |", "|---|---|---|---|---|"]
-        xs, ys = [], []
-        for x, r in pts:
-            cl = r["cls"]
-            md.append(f"| {x:.3g} | {r['R']:g} | {cl['class']} | {cl['n_reflections']} | {fmt(cl['band_speed_ratio'])} |")
-            if cl["class"] == "b" and cl["band_speed_ratio"]:
-                xs.append(math.log(x)); ys.append(math.log(cl["band_speed_ratio"]))
-        if len(xs) >= 2:
-            n = len(xs); mx = sum(xs) / n; my = sum(ys) / n
-            slope = sum((a - mx) * (b - my) for a, b in zip(xs, ys)) / sum((a - mx) ** 2 for a in xs)
-            md += ["", f"Fitted exponent over the class-(b) points: c_b/V ~ (q_y/(rho V^2))^{slope:.3f} ({n} points)."]
-        # The issue's checks, over the points labelled (b), in order of q_y/(rho V^2)
-        b_pts = [r["cls"] for _, r in pts if r["cls"]["class"] == "b"]
-        speeds = [c["band_speed_ratio"] for c in b_pts]
-        nrs = [c["n_reflections"] for c in b_pts]
-        rising = all(a is not None and b is not None and b > a for a, b in zip(speeds, speeds[1:]))
-        not_falling = all(b >= a for a, b in zip(nrs, nrs[1:]))
-        md += ["", f"Checks over the {len(b_pts)} points labelled (b) (at least five asked for): "
-               f"c_b/V rises with q_y/(rho V^2): {'yes' if rising else '**no**'}; "
-               f"N_r does not fall: {'yes' if not_falling else '**no**'} (N_r {', '.join(map(str, nrs))})."]
+            pts = [(R / FIG3_S ** 2, run(args, fig3_name(R, c3, e), FIG3_S, R, c3, e)) for R in FIG3_R]
+            lines.append((c3, pts))
+            md += [f"## Band speed vs q_y/(rho V^2) (Fig. 3 line, S = {FIG3_S:g}, pseudo-1D, {c3} cells per unit cell)", "",
+                   "| q_y/(rho V^2) = R/S^2 | R | class | N_r | c_b/V | wall [s] |", "|---|---|---|---|---|---|"]
+            for x, r in pts:
+                cl = r["cls"]
+                md.append(f"| {x:.3g} | {r['R']:g} | {cl['class']} | {cl['n_reflections']} | "
+                          f"{fmt(cl['band_speed_ratio'])} | {r['wall']:.0f} |")
+            # The issue's checks, over the points labelled (b), in order of q_y/(rho V^2)
+            b_pts = [(x, r["cls"]) for x, r in pts if r["cls"]["class"] == "b" and r["cls"]["band_speed_ratio"]]
+            xs = [math.log(x) for x, _ in b_pts]
+            ys = [math.log(c["band_speed_ratio"]) for _, c in b_pts]
+            if len(xs) >= 2:
+                n = len(xs); mx = sum(xs) / n; my = sum(ys) / n
+                slope = sum((a - mx) * (b - my) for a, b in zip(xs, ys)) / sum((a - mx) ** 2 for a in xs)
+                md += ["", f"Fitted exponent over the class-(b) points: c_b/V ~ (q_y/(rho V^2))^{slope:.3f} ({n} points)."]
+            speeds = [c["band_speed_ratio"] for _, c in b_pts]
+            nrs = [c["n_reflections"] for _, c in b_pts]
+            rising = all(b > a for a, b in zip(speeds, speeds[1:]))
+            not_falling = all(b >= a for a, b in zip(nrs, nrs[1:]))
+            md += ["", f"Checks over the {len(b_pts)} points labelled (b) (at least five asked for): "
+                   f"c_b/V rises with q_y/(rho V^2) at every step: {'yes' if rising else '**no**'} "
+                   f"(rank correlation {fmt(spearman(xs, speeds), 2)}); "
+                   f"N_r does not fall: {'yes' if not_falling else '**no**'} (N_r {', '.join(map(str, nrs))}).", ""]
         try:
             import matplotlib
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
             fig, ax = plt.subplots(1, 2, figsize=(8, 3))
-            X = [x for x, _ in pts]
-            ax[0].loglog(X, [r["cls"]["band_speed_ratio"] or float("nan") for _, r in pts], "o-")
+            for c3, pts in lines:
+                X = [x for x, _ in pts]
+                ax[0].loglog(X, [r["cls"]["band_speed_ratio"] or float("nan") for _, r in pts], "o-",
+                             label=f"{c3} cells")
+                ax[1].semilogx(X, [r["cls"]["n_reflections"] for _, r in pts], "s-", label=f"{c3} cells")
             ax[0].axhline(1 / (1 - PHI), ls="--", c="gray"); ax[0].set_xlabel("q_y/(rho V^2)"); ax[0].set_ylabel("c_b/V")
-            ax[1].semilogx(X, [r["cls"]["n_reflections"] for _, r in pts], "s-"); ax[1].set_xlabel("q_y/(rho V^2)"); ax[1].set_ylabel("N_r")
+            ax[1].set_xlabel("q_y/(rho V^2)"); ax[1].set_ylabel("N_r")
+            ax[0].legend(fontsize=7); ax[1].legend(fontsize=7)
             fig.tight_layout(); os.makedirs(args.images, exist_ok=True)
             fig.savefig(os.path.join(args.images, "fig3_line.png"), dpi=90); plt.close(fig)
-            md += ["", "![Fig. 3 line](validation/fig3_line.png)"]
+            md += ["![Fig. 3 line](validation/fig3_line.png)"]
         except ImportError:
             pass
         md.append("")
