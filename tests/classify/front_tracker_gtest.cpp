@@ -105,6 +105,30 @@ TEST(FrontTracker, TwoCrossingFrontsKeepTheirIdentityThroughTheCrossing) {
   EXPECT_EQ(decide(F).label, "c");
 }
 
+// Class (c)'s two bands emerge at the onset. Fronts that start from both plates only after the
+// first band has crossed the column (near densification; found at 30 cells per unit cell on the
+// Fig. 3 line, R = 1.4e-4) do not make a reflecting band two-sided.
+TEST(FrontTracker, LateFrontsFromBothPlatesDoNotMakeABandTwoSided) {
+  const double c = 2.5, c_late = 3.0, late = 0.45;
+  const auto run = make_run(0.55, [&](double eps, double y) {
+    if (eps < 0.385) return bump(y, 0.985 - c * eps);
+    if (eps < late) return 0.0;
+    return bump(y, 1.0 - late - 0.015 - c_late * (eps - late)) +
+           bump(y, 0.015 + c_late * (eps - late));
+  });
+  const FrontTracks t = track(run);
+  int top = 0, bottom = 0;
+  for (const Front* f : propagating(t)) {
+    top += f->origin == Origin::top;
+    bottom += f->origin == Origin::bottom;
+  }
+  ASSERT_EQ(top, 2);     // the band and the late one
+  ASSERT_EQ(bottom, 1);  // the late one
+  const Features F = compute_features(run.params, run.result, t);
+  EXPECT_FALSE(F.two_sided);
+  EXPECT_NE(decide(F).label, "c");
+}
+
 // Mass conservation bounds a band's speed from below: c_b / V >= 1 / (1 - phi) = 1.67 here.
 // The same straight front from the top is a non-reflecting band (a) at that speed and is not a
 // band at all at 1.0 (activity drifting down, as erratic runs can show): (d). Stresses equal.

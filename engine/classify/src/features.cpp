@@ -102,8 +102,12 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
     }
   }
   F.bottom_speed_ratio = bottom ? bottom->speed : kNaN;
+  // Two-sided (class (c)): bands emerge from both ends. The one from the top starts at the
+  // onset; one from the bottom that starts after that band's first leg is over is a late event
+  // (near densification, or a reflected band), not a second band emerging.
   for (const auto& a : t.fronts) {
     if (!a.propagating || a.origin != Origin::top) continue;
+    if (!(a.start_eps() <= first_activity + s.onset_window)) continue;
     for (const auto& b : t.fronts) {
       if (!b.propagating || b.origin != Origin::bottom) continue;
       if (b.start_eps() < first_leg_end(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;

@@ -31,7 +31,8 @@ struct Features {
   std::vector<std::string> onset_origins;  // where those start: top, bottom, interior
   bool top_front = false;            // a propagating front starts at the top plate
   bool bottom_front = false;         // a propagating front starts at the bottom plate
-  bool two_sided = false;            // a top and a bottom front propagate at the same time
+  bool two_sided = false;            // a top front from the onset and a bottom front propagate
+                                     // at the same time (class (c)'s crossing bands)
   int n_reflections = 0;             // reflections at the plates: of the band in the velocity
                                      // map (reflections.hpp), else turns of the primary front
   double first_reflection_eps = 0.0; // strain of the first reflection (NaN: none)
