@@ -52,6 +52,7 @@ TEST(Reflections, ZigZagBandReflectsAtEachPlate) {
   };
   const BandPath p = follow(with_band(0.55, band));
   EXPECT_EQ(p.n_reflections, 2);
+  EXPECT_EQ(p.n_turns, 2);
   EXPECT_NEAR(p.first_reflection_eps, 0.25, 0.01);
 }
 
@@ -60,6 +61,7 @@ TEST(Reflections, TurnAwayFromThePlatesIsNoReflection) {
   auto band = [](double eps) { return eps < 0.15 ? 1.0 - 3.0 * eps : 0.55 + 2.0 * (eps - 0.15); };
   const BandPath p = follow(with_band(0.3, band));
   EXPECT_EQ(p.n_reflections, 0);
+  EXPECT_EQ(p.n_turns, 1);
 }
 
 TEST(Reflections, SeenReflectionMakesAReflectingBand) {

@@ -138,6 +138,7 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
   if (r.velocity.n_frames == r.spacetime.n_frames && r.velocity.n_frames > 0) {
     // The velocity map sees reflections the strain-rate map hides (reflections.hpp).
     const BandPath band = follow_band(r.velocity, map_axes(p, r), s.tracker);
+    F.band_turns = band.n_turns;
     if (band.n_reflections > F.n_reflections) {
       F.n_reflections = band.n_reflections;
       F.first_reflection_eps = band.first_reflection_eps;
@@ -244,6 +245,7 @@ nlohmann::json to_json(const Features& f) {
       {"primary_origin", f.primary_origin},
       {"n_reflections", f.n_reflections},
       {"first_reflection_eps", num(f.first_reflection_eps)},
+      {"band_turns", f.band_turns},
       {"band_speed_ratio", num(f.band_speed_ratio)},
       {"bottom_speed_ratio", num(f.bottom_speed_ratio)},
       {"nonreflecting_speed", num(f.nonreflecting_speed)},

@@ -61,6 +61,7 @@ BandPath follow_band(const SpaceTimeMap& v, const MapAxes& axes, const TrackerSe
     // At a plate: nearer to it than the distance it goes back (behind a band the material is
     // only partly compacted and slower than the plate, so the crossing stops short of it).
     const bool at_plate = dir < 0 ? ext <= turn : ext >= 1.0 - axes.eps[ext_f] - turn;
+    ++out.n_turns;
     if (at_plate) {
       if (out.n_reflections == 0) out.first_reflection_eps = axes.eps[ext_f];
       ++out.n_reflections;

@@ -36,6 +36,8 @@ struct Features {
   int n_reflections = 0;             // reflections at the plates: of the band in the velocity
                                      // map (reflections.hpp), else turns of the primary front
   double first_reflection_eps = 0.0; // strain of the first reflection (NaN: none)
+  int band_turns = 0;                // all turns of the band in the velocity map, at a plate or
+                                     // not (a reflection is a turn within turn_travel of a plate)
   double band_speed_ratio = 0.0;     // c_b / V of the primary front before its first turn (NaN: none)
   double bottom_speed_ratio = 0.0;   // c / V of the strongest bottom front (NaN: none)
   double nonreflecting_speed = 0.0;  // 1 / (1 - phi) with the particles' phi        [-]

@@ -20,6 +20,7 @@ namespace compaction::classify {
 struct BandPath {
   std::vector<double> height;   // per frame: the band's height / h0 (NaN: no material)
   int n_reflections = 0;        // turns at a plate
+  int n_turns = 0;              // all turns, at a plate or not
   double first_reflection_eps = 0.0;  // strain of the first turn (NaN: none)
 };
 
