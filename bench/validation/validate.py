@@ -229,11 +229,12 @@ def main():
             pts = [(R / FIG3_S ** 2, run(args, fig3_name(R, c3, e), FIG3_S, R, c3, e)) for R in FIG3_R]
             lines.append((c3, pts))
             md += [f"## Band speed vs q_y/(rho V^2) (Fig. 3 line, S = {FIG3_S:g}, pseudo-1D, {c3} cells per unit cell)", "",
-                   "| q_y/(rho V^2) = R/S^2 | R | class | N_r | c_b/V | wall [s] |", "|---|---|---|---|---|---|"]
+                   "| q_y/(rho V^2) = R/S^2 | R | class | N_r | turns of the band | c_b/V | wall [s] |",
+                   "|---|---|---|---|---|---|---|"]
             for x, r in pts:
                 cl = r["cls"]
                 md.append(f"| {x:.3g} | {r['R']:g} | {cl['class']} | {cl['n_reflections']} | "
-                          f"{fmt(cl['band_speed_ratio'])} | {r['wall']:.0f} |")
+                          f"{cl['features'].get('band_turns', '-')} | {fmt(cl['band_speed_ratio'])} | {r['wall']:.0f} |")
             # The checks, over the points labelled (b), in order of q_y/(rho V^2)
             b_pts = [(x, r["cls"]) for x, r in pts if r["cls"]["class"] == "b" and r["cls"]["band_speed_ratio"]]
             xs = [math.log(x) for x, _ in b_pts]
