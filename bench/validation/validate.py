@@ -221,6 +221,11 @@ def main():
                              f"{cl['n_reflections']}, {r['wall']:.0f} s")
             md.append(f"| {k} | " + " | ".join(cells) + " |")
         md.append("")
+        if max(res) != args.cells:  # the maps the study converges to, beside the examples' above
+            md += [f"Space-time maps at {max(res)} cells per unit cell:", ""]
+            for k, (S, R, e) in EXAMPLES.items():
+                r = run(args, f"{k}_p1d_{max(res)}_{e * args.eps_scale:g}", S, R, max(res), e * args.eps_scale)
+                md += [f"**({k})** ![{k} at {max(res)} cells]({copy_map(args, r, f'{k}_p1d_{max(res)}')})", ""]
 
     if "fig3" in sections:
         lines = []
@@ -256,17 +261,23 @@ def main():
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
             fig, ax = plt.subplots(1, 2, figsize=(8, 3))
-            for c3, pts in lines:
+            for c3, pts in lines:  # filled markers: labelled (b); hollow: another class
                 X = [x for x, _ in pts]
-                ax[0].loglog(X, [r["cls"]["band_speed_ratio"] or float("nan") for _, r in pts], "o-",
-                             label=f"{c3} cells")
-                ax[1].semilogx(X, [r["cls"]["n_reflections"] for _, r in pts], "s-", label=f"{c3} cells")
+                Y0 = [r["cls"]["band_speed_ratio"] or float("nan") for _, r in pts]
+                Y1 = [r["cls"]["n_reflections"] for _, r in pts]
+                other = [r["cls"]["class"] != "b" for _, r in pts]
+                l0, = ax[0].loglog(X, Y0, "o-", label=f"{c3} cells")
+                l1, = ax[1].semilogx(X, Y1, "s-", label=f"{c3} cells")
+                for a, Y, ln, mk in ((ax[0], Y0, l0, "o"), (ax[1], Y1, l1, "s")):
+                    a.plot([x for x, o in zip(X, other) if o], [y for y, o in zip(Y, other) if o], mk,
+                           mfc="white", mec=ln.get_color())
             ax[0].axhline(1 / (1 - PHI), ls="--", c="gray"); ax[0].set_xlabel("q_y/(rho V^2)"); ax[0].set_ylabel("c_b/V")
             ax[1].set_xlabel("q_y/(rho V^2)"); ax[1].set_ylabel("N_r")
             ax[0].legend(fontsize=7); ax[1].legend(fontsize=7)
             fig.tight_layout(); os.makedirs(args.images, exist_ok=True)
             fig.savefig(os.path.join(args.images, "fig3_line.png"), dpi=90); plt.close(fig)
-            md += ["![Fig. 3 line](validation/fig3_line.png)"]
+            md += ["![Fig. 3 line](validation/fig3_line.png)", "",
+                   "Filled markers: labelled (b); hollow: labelled another class."]
         except ImportError:
             pass
         md.append("")
