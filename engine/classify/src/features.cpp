@@ -86,6 +86,10 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
   for (const auto& segs : t.segments) {
     if (!segs.empty()) { first_activity = segs.front().eps; break; }
   }
+  // A front that starts within onset_window of the first activity (false when there is none).
+  auto at_onset = [&](const Front& fr) {
+    return fr.start_eps() <= first_activity + s.onset_window;
+  };
   double bottom_mass = 0.0;
   const Front* bottom = nullptr;
   for (const auto& fr : t.fronts) {
@@ -96,7 +100,7 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
       F.bottom_front = true;
       if (fr.mass() > bottom_mass) { bottom_mass = fr.mass(); bottom = &fr; }
     }
-    if (fr.start_eps() <= first_activity + s.onset_window) {
+    if (at_onset(fr)) {
       ++F.n_fronts_onset;
       F.onset_origins.push_back(to_string(fr.origin));
     }
@@ -106,8 +110,7 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
   // onset; one from the bottom that starts after that band's first leg is over is a late event
   // (near densification, or a reflected band), not a second band emerging.
   for (const auto& a : t.fronts) {
-    if (!a.propagating || a.origin != Origin::top) continue;
-    if (!(a.start_eps() <= first_activity + s.onset_window)) continue;
+    if (!a.propagating || a.origin != Origin::top || !at_onset(a)) continue;
     for (const auto& b : t.fronts) {
       if (!b.propagating || b.origin != Origin::bottom) continue;
       if (b.start_eps() < first_leg_end(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;
