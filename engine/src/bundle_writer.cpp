@@ -149,6 +149,18 @@ json summary_json(const SceneParams& p, const RunResult& r) {
   };
 }
 
+std::size_t bundle_size_bound(const SceneParams& p) {
+  const double cells = static_cast<double>(p.cells_per_unit) * p.cells_per_unit * p.cols() * p.n_rows;
+  const double ppc = static_cast<double>(p.particles_per_cell) * p.particles_per_cell;
+  const double particles = std::min(1.0, p.phi) * cells * ppc * 1.05 + 1000;  // rounding margin
+  const double frames = p.eps_final() / p.d_eps + 2;
+  const double grid_rows = static_cast<double>(p.cells_per_unit) * p.n_rows + 8;
+  constexpr double png_bound = 1400.0 * 1400.0 * 3 + (1 << 16);  // an uncompressed picture
+  const double bytes = static_cast<double>(p.snapshot_eps.size()) * (20 * particles + png_bound) +
+                       2 * frames * grid_rows * 4 + frames * 512 + png_bound + (1 << 20);
+  return static_cast<std::size_t>(bytes);
+}
+
 void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r) {
   fs::create_directories(dir);
   write_frames_csv(dir / "frames.csv", p, r);

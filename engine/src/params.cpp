@@ -43,8 +43,8 @@ std::vector<FieldError> validate(const SceneParams& p) {
   check_range(e, "S", p.S, 0.0, 1.0, true);
   check_range(e, "R", p.R, 0.0, 1.0, true);
   // phi = 1 is the solid column of the verification tests (no holes; needs an explicit eps_end).
-  if (p.phi != 1.0) check_range(e, "phi", p.phi, 0.2, 0.8);
-  if (p.phi == 1.0 && !(p.eps_end > 0.0)) {
+  if (p.phi != kSolidColumnPhi) check_range(e, "phi", p.phi, kPhiMin, kPhiMax);
+  if (p.phi == kSolidColumnPhi && !(p.eps_end > 0.0)) {
     e.push_back({"eps_end", "must be set (> 0) for a solid column (phi = 1)"});
   }
   check_range(e, "rho", p.rho, 1e-6, 1e9);
@@ -64,8 +64,9 @@ std::vector<FieldError> validate(const SceneParams& p) {
     // eps_end <= 0 means "until fully dense"; a strain beyond 1 - phi would crush solid matter.
     check_range(e, "eps_end", p.eps_end, 0.0, 0.95, true);
   }
-  if (p.snapshot_eps.size() > 100) {
-    e.push_back({"snapshot_eps", "at most 100 snapshots, got " + num(p.snapshot_eps.size())});
+  if (p.snapshot_eps.size() > kMaxSnapshots) {
+    e.push_back({"snapshot_eps", "at most " + num(kMaxSnapshots) + " snapshots, got " +
+                                     num(p.snapshot_eps.size())});
   }
   for (double s : p.snapshot_eps) check_range(e, "snapshot_eps", s, 0.0, 0.95);
   if (e.empty() && p.eps_final() / p.d_eps > 1e5) {

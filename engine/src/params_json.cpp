@@ -116,6 +116,16 @@ const std::map<std::string, std::pair<Reader, const char*>>& readers() {
 
 }  // namespace
 
+namespace {
+// A value as error messages show it: short JSON text, or its kind when the text would be long.
+std::string short_text(const nlohmann::json& v) {
+  if (v.is_array()) return "an array of " + std::to_string(v.size()) + " values";
+  if (v.is_object()) return "an object of " + std::to_string(v.size()) + " keys";
+  const std::string s = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return s.size() <= 60 ? s : s.substr(0, 57) + "...";
+}
+}  // namespace
+
 std::vector<FieldError> from_json(const json& j, SceneParams& p) {
   if (!j.is_object()) return {{"", "scene parameters must be a JSON object"}};
   std::vector<FieldError> errors;
@@ -125,7 +135,7 @@ std::vector<FieldError> from_json(const json& j, SceneParams& p) {
     if (it == table.end()) {
       errors.push_back({key, "unknown parameter"});
     } else if (!it->second.first(value, p)) {
-      errors.push_back({key, std::string("must be ") + it->second.second + ", got " + value.dump()});
+      errors.push_back({key, std::string("must be ") + it->second.second + ", got " + short_text(value)});
     }
   }
   if (errors.empty()) errors = validate(p);

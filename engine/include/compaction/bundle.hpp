@@ -6,6 +6,7 @@
 //   spacetime.png          a picture of it (height up, eps to the right)
 //   snapshot_<eps>.npy     float32 [n_particles, 5]: x, y, strain rate / (V/h0), plastic strain, J
 //   snapshot_<eps>.png     the particles coloured by plastic strain rate
+//   velocity.npy           float32 [n_frames, n_rows]: row-averaged vertical velocity / V
 //
 // The .npy files follow NumPy's documented format 1.0 (schema/bundle-format.md).
 #pragma once
@@ -19,6 +20,16 @@
 #include "compaction/result.hpp"
 
 namespace compaction {
+
+// How many files a bundle holds: the five above without a snapshot, two per snapshot.
+inline constexpr std::size_t kBundleFixedFiles = 5;
+inline constexpr std::size_t kFilesPerSnapshot = 2;
+inline constexpr std::size_t kMaxBundleFiles = kBundleFixedFiles + kFilesPerSnapshot * kMaxSnapshots;
+
+// An upper bound of the bytes a run's bundle takes (the snapshots' particle tables dominate:
+// 20 bytes per particle), from the parameters alone, so a service can refuse a scene whose
+// result it could not take.
+std::size_t bundle_size_bound(const SceneParams& p);
 
 // Writes the whole bundle into dir (created if needed). Throws std::runtime_error on I/O errors.
 void write_bundle(const std::filesystem::path& dir, const SceneParams& p, const RunResult& r);

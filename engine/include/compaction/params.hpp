@@ -3,6 +3,7 @@
 // the server and the worker see the engine only through it and through result.hpp.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,6 +30,12 @@ enum class PlateContact {
   bonded,     // plates impose their normal velocity on the nodes they cover (no separation)
   unilateral  // plates only push: the material may separate from a plate
 };
+
+// Limits of validate() that other components serve or check against.
+inline constexpr double kPhiMin = 0.2;          // porous structures: solid fraction range
+inline constexpr double kPhiMax = 0.8;
+inline constexpr double kSolidColumnPhi = 1.0;  // no holes: the verification tests' column
+inline constexpr std::size_t kMaxSnapshots = 100;
 
 struct SceneParams {
   // Dimensionless inputs (the paper's Eq. 3).
