@@ -1,11 +1,15 @@
 #include "http_util.hpp"
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include <spdlog/spdlog.h>
 
-#include "sqlite.hpp"
+#include "json_input.hpp"
+#include "safe_text.hpp"
 
 namespace compaction::server {
 
@@ -13,7 +17,29 @@ using nlohmann::json;
 
 void send_json(httplib::Response& res, int status, const json& body) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  // Strings from clients may hold invalid UTF-8: replaced (U+FFFD), never a throw.
+  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+}
+
+std::string new_error_id() {
+  static std::atomic<unsigned> counter{0};
+  const auto t = std::chrono::duration_cast<std::chrono::milliseconds>(
+                     std::chrono::system_clock::now().time_since_epoch())
+                     .count();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "e%llx-%x", static_cast<unsigned long long>(t),
+                counter.fetch_add(1) & 0xffffu);
+  return buf;
+}
+
+void send_internal_error(const httplib::Request& req, httplib::Response& res,
+                         const std::string& what) {
+  const std::string id = new_error_id();
+  spdlog::error("internal error id={} {} {}: {}", id, req.method, log_escape(req.path),
+                log_escape(what, 2000));
+  json body = ApiError(500, "", "internal error").body();
+  body["error"]["id"] = id;
+  send_json(res, 500, body);
 }
 
 void send_error(httplib::Response& res, const ApiError& e) { send_json(res, e.status, e.body()); }
@@ -25,17 +51,14 @@ Handler guarded(Handler h) {
     } catch (const ApiError& e) {
       send_error(res, e);
     } catch (const std::exception& e) {
-      spdlog::error("{} {} failed: {}", req.method, req.path, e.what());
-      send_error(res, ApiError(500, "", std::string("internal error: ") + e.what()));
+      send_internal_error(req, res, e.what());
+    } catch (...) {
+      send_internal_error(req, res, "unknown exception");
     }
   };
 }
 
-json parse_json_body(const httplib::Request& req) {
-  json body = json::parse(req.body, nullptr, false);
-  if (body.is_discarded()) throw ApiError(400, "body", "malformed JSON");
-  return body;
-}
+json parse_json_body(const httplib::Request& req) { return parse_client_json(req.body, "body"); }
 
 void require_token(const httplib::Request& req, const std::string& expected) {
   if (expected.empty()) return;
@@ -94,18 +117,23 @@ std::optional<double> query_number(const httplib::Request& req, const char* name
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
-    throw ApiError(422, name, "must be a finite number, got \"" + s + "\"");
+    throw ApiError(422, name, "must be a finite number, got " + describe(json(valid_utf8(s))));
   }
   return v;
 }
 
-std::string body_string(const json& body, const char* key, std::size_t max_len) {
+std::string body_string(const json& body, const char* key, std::size_t max_len, TextKind text) {
   if (!body.is_object()) throw ApiError(422, "body", "must be a JSON object");
   if (!body.contains(key)) throw ApiError(422, key, "is required");
-  if (!body[key].is_string()) throw ApiError(422, key, "must be a string, got " + body[key].dump());
+  if (!body[key].is_string()) {
+    throw ApiError(422, key, "must be a string, got " + describe(body[key]));
+  }
   std::string s = body[key].get<std::string>();
   if (s.empty() || s.size() > max_len) {
-    throw ApiError(422, key, "must be 1 to " + std::to_string(max_len) + " characters");
+    throw ApiError(422, key, "must be 1 to " + std::to_string(max_len) + " bytes");
+  }
+  if (has_control_characters(s, text == TextKind::free_text)) {
+    throw ApiError(422, key, "must not hold control characters");
   }
   return s;
 }

@@ -1,6 +1,7 @@
 // Helpers shared by the route files: JSON answers, the error body, body parsing, tokens and
 // query parameters. Every handler runs inside guarded(), which turns ApiError into its status
-// and JSON body and anything else into a 500 with the reason logged.
+// and JSON body and anything else into a 500 saying "internal error" and an id; the reason is
+// logged under that id and never sent.
 #pragma once
 
 #include <functional>
@@ -16,11 +17,15 @@ namespace compaction::server {
 
 void send_json(httplib::Response& res, int status, const nlohmann::json& body);
 void send_error(httplib::Response& res, const ApiError& e);
+// A 500 with a new error id; the reason goes to the log under the id.
+void send_internal_error(const httplib::Request& req, httplib::Response& res,
+                         const std::string& what);
 
 using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
 Handler guarded(Handler h);
 
-// The request body as a JSON value; malformed JSON is a 400 naming no field ("body").
+// The request body as a JSON value; malformed or too deeply nested JSON is a 400 naming
+// the field "body".
 nlohmann::json parse_json_body(const httplib::Request& req);
 
 // Requires "Authorization: Bearer <expected>" when expected is not empty: missing -> 401,
@@ -35,7 +40,10 @@ int query_int(const httplib::Request& req, const char* name, int fallback, int l
 std::optional<std::int64_t> query_id(const httplib::Request& req, const char* name);
 std::optional<double> query_number(const httplib::Request& req, const char* name);
 
-// Required fields of a JSON object body (422 naming the field).
-std::string body_string(const nlohmann::json& body, const char* key, std::size_t max_len);
+// Required string fields of a JSON object body (422 naming the field): 1 to max_len bytes,
+// no control characters (free text may hold newlines and tabs).
+enum class TextKind { name, free_text };
+std::string body_string(const nlohmann::json& body, const char* key, std::size_t max_len,
+                        TextKind text = TextKind::name);
 
 }  // namespace compaction::server

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <random>
+#include <set>
 
 #include <spdlog/spdlog.h>
 
@@ -24,6 +25,16 @@ std::string new_token() {
   return t;  // 128 random bits
 }
 
+// A lease token as a folder name: the API only ever hands out hex tokens, but a name is built
+// from what the client sent, so anything else is kept to [0-9a-z].
+std::string token_folder_name(const std::string& token) {
+  std::string out;
+  for (char c : token.substr(0, 64)) {
+    out += (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') ? c : 'x';
+  }
+  return out;
+}
+
 template <typename T>
 json opt(const std::optional<T>& v) {
   return v ? json(*v) : json(nullptr);
@@ -41,9 +52,18 @@ constexpr const char* job_columns =
 }  // namespace
 
 JobStore::JobStore(const std::string& path, StoreConfig config)
-    : config_(std::move(config)), db_(path) {
+    : config_(std::move(config)), db_(path), readers_(path), files_(path + ".artifacts") {
   std::lock_guard lock(mutex_);
   apply_migrations(db_, embedded_migrations());
+  // Folders of results that were never committed (a crash between writing the files and the
+  // transaction): nothing names them.
+  std::set<std::string> keep;
+  auto s = db_.prepare(
+      "SELECT DISTINCT substr(path, 1, instr(path, '/') - 1) FROM artifacts WHERE path IS NOT NULL");
+  while (s.step()) keep.insert(s.text(0));
+  if (const int n = files_.remove_all_but(keep); n > 0) {
+    spdlog::warn("removed {} artifact folder(s) of uploads that were never committed", n);
+  }
 }
 
 Millis JobStore::backoff(int attempts) const {
@@ -64,6 +84,22 @@ void JobStore::log_event(std::int64_t job_id, Millis at, const char* kind, int a
       .bind(5, worker)
       .bind(6, message)
       .run();
+  db_.prepare(
+        "INSERT INTO event_totals (kind, total) VALUES (?, 1)"
+        " ON CONFLICT (kind) DO UPDATE SET total = total + 1")
+      .bind(1, kind)
+      .run();
+  // Only the newest events of a job stay; the older ones are counted in jobs.events_dropped.
+  auto trim = db_.prepare(
+      "DELETE FROM job_events WHERE job_id = ?1 AND id <= (SELECT id FROM job_events"
+      " WHERE job_id = ?1 ORDER BY id DESC LIMIT 1 OFFSET ?2)");
+  trim.bind(1, job_id).bind(2, static_cast<std::int64_t>(max_events_per_job)).run();
+  if (const std::int64_t dropped = db_.changes(); dropped > 0) {
+    db_.prepare("UPDATE jobs SET events_dropped = events_dropped + ?2 WHERE id = ?1")
+        .bind(1, job_id)
+        .bind(2, dropped)
+        .run();
+  }
 }
 
 // ---- sweeps ---------------------------------------------------------------------------------
@@ -142,10 +178,10 @@ CreatedSweep JobStore::create_sweep(const SweepPlan& plan, Millis now) {
   return out;
 }
 
-json JobStore::counts_for_sweep(std::int64_t id) {
+json JobStore::counts_for_sweep(sqlite::Database& db, std::int64_t id) {
   json counts = {{"queued", 0}, {"running", 0}, {"succeeded", 0}, {"failed", 0},
                  {"cancelled", 0}};
-  auto s = db_.prepare(
+  auto s = db.prepare(
       "SELECT j.state, count(*) FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
       " WHERE sj.sweep_id = ? GROUP BY j.state");
   s.bind(1, id);
@@ -180,23 +216,25 @@ json sweep_json(sqlite::Statement& s, json counts) {
 }  // namespace
 
 std::optional<json> JobStore::sweep(std::int64_t id) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare(
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
       "SELECT id, name, request, priority, created_at, cancelled_at FROM sweeps WHERE id = ?");
   s.bind(1, id);
   if (!s.step()) return std::nullopt;
-  return sweep_json(s, counts_for_sweep(id));
+  return sweep_json(s, counts_for_sweep(*db, id));
 }
 
 json JobStore::list_sweeps(int limit, int offset) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare(
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
       "SELECT id, name, request, priority, created_at, cancelled_at FROM sweeps"
       " ORDER BY id DESC LIMIT ? OFFSET ?");
   s.bind(1, limit).bind(2, offset);
   json out = json::array();
-  while (s.step()) out.push_back(sweep_json(s, counts_for_sweep(s.int64(0))));
-  auto n = db_.prepare("SELECT count(*) FROM sweeps");
+  while (s.step()) out.push_back(sweep_json(s, counts_for_sweep(*db, s.int64(0))));
+  auto n = db->prepare("SELECT count(*) FROM sweeps");
   n.step();
   return {{"sweeps", out}, {"total", n.int64(0)}, {"limit", limit}, {"offset", offset}};
 }
@@ -236,11 +274,12 @@ std::optional<json> JobStore::cancel_sweep(std::int64_t id, Millis now) {
 }
 
 std::optional<json> JobStore::sweep_results(std::int64_t id) {
-  std::lock_guard lock(mutex_);
-  auto exists = db_.prepare("SELECT 1 FROM sweeps WHERE id = ?");
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto exists = db->prepare("SELECT 1 FROM sweeps WHERE id = ?");
   exists.bind(1, id);
   if (!exists.step()) return std::nullopt;
-  auto s = db_.prepare(std::string("SELECT ") + job_columns +
+  auto s = db->prepare(std::string("SELECT ") + job_columns +
                        " FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
                        " LEFT JOIN results r ON r.job_id = j.id"
                        " WHERE sj.sweep_id = ? ORDER BY sj.position");
@@ -296,7 +335,8 @@ json JobStore::job_row_json(sqlite::Statement& s) {
 }
 
 json JobStore::list_jobs(const JobFilter& f) {
-  std::lock_guard lock(mutex_);
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
   // Absent filters bind NULL and match everything; phi matches within 1e-9.
   const std::string where =
       " WHERE (?1 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?1))"
@@ -310,34 +350,38 @@ json JobStore::list_jobs(const JobFilter& f) {
     }
     s.bind(3, f.phi);
   };
-  auto s = db_.prepare(std::string("SELECT ") + job_columns +
+  auto s = db->prepare(std::string("SELECT ") + job_columns +
                        " FROM jobs j LEFT JOIN results r ON r.job_id = j.id" + where +
                        " ORDER BY j.id LIMIT ?4 OFFSET ?5");
   bind_filters(s);
   s.bind(4, f.limit).bind(5, f.offset);
   json jobs = json::array();
   while (s.step()) jobs.push_back(job_row_json(s));
-  auto n = db_.prepare("SELECT count(*) FROM jobs j" + where);
+  auto n = db->prepare("SELECT count(*) FROM jobs j" + where);
   bind_filters(n);
   n.step();
   return {{"jobs", jobs}, {"total", n.int64(0)}, {"limit", f.limit}, {"offset", f.offset}};
 }
 
 std::optional<json> JobStore::job(std::int64_t id) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare(std::string("SELECT ") + job_columns +
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(std::string("SELECT ") + job_columns +
                        " FROM jobs j LEFT JOIN results r ON r.job_id = j.id WHERE j.id = ?");
   s.bind(1, id);
   if (!s.step()) return std::nullopt;
   json j = job_row_json(s);
-  auto sweeps = db_.prepare("SELECT sweep_id FROM sweep_jobs WHERE job_id = ? ORDER BY sweep_id");
+  auto sweeps = db->prepare("SELECT sweep_id FROM sweep_jobs WHERE job_id = ? ORDER BY sweep_id");
   sweeps.bind(1, id);
   j["sweeps"] = json::array();
   while (sweeps.step()) j["sweeps"].push_back(sweeps.int64(0));
-  auto events = db_.prepare(
+  auto events = db->prepare(
       "SELECT at, kind, attempt, worker, message FROM job_events WHERE job_id = ? ORDER BY id");
   events.bind(1, id);
   j["events"] = json::array();
+  auto dropped = db->prepare("SELECT events_dropped FROM jobs WHERE id = ?");
+  dropped.bind(1, id);
+  j["events_dropped"] = dropped.step() ? dropped.int64(0) : 0;
   while (events.step()) {
     j["events"].push_back({{"at", events.int64(0)},
                            {"kind", events.text(1)},
@@ -346,7 +390,7 @@ std::optional<json> JobStore::job(std::int64_t id) {
                            {"message", events.text(4)}});
   }
   if (!j["result"].is_null()) {
-    auto summary = db_.prepare("SELECT summary FROM results WHERE job_id = ?");
+    auto summary = db->prepare("SELECT summary FROM results WHERE job_id = ?");
     summary.bind(1, id);
     if (summary.step()) j["result"]["summary"] = json::parse(summary.text(0));
   }
@@ -354,8 +398,9 @@ std::optional<json> JobStore::job(std::int64_t id) {
 }
 
 json JobStore::phase_map(double phi, std::optional<std::int64_t> sweep_id) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare(
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
       "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
       " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps"
       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id"
@@ -418,10 +463,11 @@ LeaseCheck missing_or_lost(sqlite::Database& db, std::int64_t job_id) {
 }  // namespace
 
 LeaseCheck JobStore::check_lease(std::int64_t job_id, const std::string& token) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare("SELECT 1 FROM jobs WHERE id = ? AND state = 'running' AND lease_token = ?");
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare("SELECT 1 FROM jobs WHERE id = ? AND state = 'running' AND lease_token = ?");
   s.bind(1, job_id).bind(2, token);
-  return s.step() ? LeaseCheck::ok : missing_or_lost(db_, job_id);
+  return s.step() ? LeaseCheck::ok : missing_or_lost(*db, job_id);
 }
 
 LeaseCheck JobStore::heartbeat(std::int64_t job_id, const std::string& token, double eps,
@@ -441,6 +487,18 @@ LeaseCheck JobStore::heartbeat(std::int64_t job_id, const std::string& token, do
 
 LeaseCheck JobStore::complete(std::int64_t job_id, const std::string& token,
                               const ResultRecord& r, Millis now) {
+  // The files first, without the lock: the folder is named after the lease, so a concurrent
+  // upload with another token never writes into it. Removed again unless the commit names it.
+  const std::string folder = "job-" + std::to_string(job_id) + "-" + token_folder_name(token);
+  const std::vector<std::string> paths = files_.write(folder, r.artifacts);
+  struct RemoveUnlessKept {
+    ArtifactFiles& files;
+    const std::string& folder;
+    bool keep = false;
+    ~RemoveUnlessKept() {
+      if (!keep) files.remove(folder);
+    }
+  } files_guard{files_, folder};
   std::lock_guard lock(mutex_);
   sqlite::Transaction tx(db_);
   auto s = db_.prepare(
@@ -477,19 +535,22 @@ LeaseCheck JobStore::complete(std::int64_t job_id, const std::string& token,
       .bind(17, now)
       .run();
   auto art = db_.prepare(
-      "INSERT INTO artifacts (job_id, name, content_type, size, data) VALUES (?, ?, ?, ?, ?)");
-  for (const Artifact& a : r.artifacts) {
+      "INSERT INTO artifacts (job_id, name, content_type, size, data, path)"
+      " VALUES (?, ?, ?, ?, X'', ?)");
+  for (std::size_t i = 0; i < r.artifacts.size(); ++i) {
+    const Artifact& a = r.artifacts[i];
     art.reset();
     art.bind(1, job_id)
         .bind(2, a.name)
         .bind(3, a.content_type)
         .bind(4, static_cast<std::int64_t>(a.data.size()))
-        .bind_blob(5, a.data.data(), a.data.size())
+        .bind(5, paths[i])
         .run();
   }
   log_event(job_id, now, "succeeded", attempt, worker,
             r.status == "ok" ? "" : "unstable: " + r.reason);
   tx.commit();
+  files_guard.keep = true;
   return LeaseCheck::ok;
 }
 
@@ -583,8 +644,9 @@ int JobStore::requeue_expired(Millis now) {
 }
 
 std::optional<std::pair<std::string, std::string>> JobStore::job_scene(std::int64_t job_id) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare("SELECT scene, engine_version FROM jobs WHERE id = ?");
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare("SELECT scene, engine_version FROM jobs WHERE id = ?");
   s.bind(1, job_id);
   if (!s.step()) return std::nullopt;
   return std::make_pair(s.text(0), s.text(1));
@@ -593,11 +655,12 @@ std::optional<std::pair<std::string, std::string>> JobStore::job_scene(std::int6
 // ---- artifacts ------------------------------------------------------------------------------
 
 std::optional<json> JobStore::list_artifacts(std::int64_t job_id) {
-  std::lock_guard lock(mutex_);
-  auto exists = db_.prepare("SELECT 1 FROM jobs WHERE id = ?");
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto exists = db->prepare("SELECT 1 FROM jobs WHERE id = ?");
   exists.bind(1, job_id);
   if (!exists.step()) return std::nullopt;
-  auto s = db_.prepare(
+  auto s = db->prepare(
       "SELECT name, content_type, size FROM artifacts WHERE job_id = ? ORDER BY name");
   s.bind(1, job_id);
   json out = json::array();
@@ -608,34 +671,38 @@ std::optional<json> JobStore::list_artifacts(std::int64_t job_id) {
 }
 
 std::optional<Artifact> JobStore::artifact(std::int64_t job_id, const std::string& name) {
-  std::lock_guard lock(mutex_);
-  auto s = db_.prepare("SELECT name, content_type, data FROM artifacts WHERE job_id = ? AND name = ?");
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
+      "SELECT name, content_type, data, path FROM artifacts WHERE job_id = ? AND name = ?");
   s.bind(1, job_id).bind(2, name);
   if (!s.step()) return std::nullopt;
-  return Artifact{s.text(0), s.text(1), s.blob(2)};
+  const auto path = s.opt_text(3);
+  return Artifact{s.text(0), s.text(1), path ? files_.read(*path) : s.blob(2)};
 }
 
 // ---- metrics --------------------------------------------------------------------------------
 
 StoreMetrics JobStore::metrics() {
-  std::lock_guard lock(mutex_);
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
   StoreMetrics m;
-  auto by_state = db_.prepare("SELECT state, count(*) FROM jobs GROUP BY state ORDER BY state");
+  auto by_state = db->prepare("SELECT state, count(*) FROM jobs GROUP BY state ORDER BY state");
   while (by_state.step()) m.jobs_by_state.emplace_back(by_state.text(0), by_state.int64(1));
-  auto by_kind =
-      db_.prepare("SELECT kind, count(*) FROM job_events GROUP BY kind ORDER BY kind");
+  auto by_kind = db->prepare("SELECT kind, total FROM event_totals ORDER BY kind");
   while (by_kind.step()) m.events_by_kind.emplace_back(by_kind.text(0), by_kind.int64(1));
   auto by_status =
-      db_.prepare("SELECT status, count(*) FROM results GROUP BY status ORDER BY status");
+      db->prepare("SELECT status, count(*) FROM results GROUP BY status ORDER BY status");
   while (by_status.step()) m.results_by_status.emplace_back(by_status.text(0), by_status.int64(1));
-  auto sweeps = db_.prepare("SELECT count(*) FROM sweeps");
+  auto sweeps = db->prepare("SELECT count(*) FROM sweeps");
   sweeps.step();
   m.sweeps = sweeps.int64(0);
   return m;
 }
 
 std::string JobStore::fingerprint() {
-  std::lock_guard lock(mutex_);
+  auto db = readers_.take();
+  sqlite::ReadTransaction read(*db);
   std::string out;
   for (const char* q :
        {"SELECT group_concat(id || state || attempts || coalesce(lease_token, '') ||"
@@ -645,7 +712,7 @@ std::string JobStore::fingerprint() {
         "SELECT group_concat(job_id || status, ';') FROM results",
         "SELECT group_concat(job_id || name || size, ';') FROM artifacts",
         "SELECT count(*) FROM job_events"}) {
-    auto s = db_.prepare(q);
+    auto s = db->prepare(q);
     s.step();
     out += s.text(0) + "|";
   }

@@ -3,7 +3,9 @@
 // the schema files). Every write is one BEGIN IMMEDIATE transaction of prepared statements;
 // every state change is a guarded UPDATE (job_states.hpp lists who moves a job where).
 // "Now" is a parameter of every call that depends on time, so tests control the clock.
-// Reads return JSON documents shaped as the REST API answers them.
+// Reads return JSON documents shaped as the REST API answers them; each read uses a read-only
+// connection of its own (WAL), so no read waits for a write or for another read, and the
+// writer's lock is never held while artifact files are written (artifact_files.hpp).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "artifact_files.hpp"
 #include "job_states.hpp"
 #include "planner.hpp"
 #include "sqlite.hpp"
@@ -21,6 +24,10 @@
 namespace compaction::server {
 
 using Millis = std::int64_t;  // milliseconds since the Unix epoch
+
+// The event log keeps this many of the newest events per job (older ones are counted in the
+// job's events_dropped); a job that is leased and given back forever cannot grow it.
+constexpr int max_events_per_job = 50;
 
 struct StoreConfig {
   Millis lease_ms = 60'000;          // a lease lasts this long after a lease or heartbeat
@@ -149,11 +156,13 @@ class JobStore {
   void log_event(std::int64_t job_id, Millis at, const char* kind, int attempt,
                  const std::optional<std::string>& worker, const std::string& message);
   nlohmann::json job_row_json(sqlite::Statement& s);
-  nlohmann::json counts_for_sweep(std::int64_t id);
+  static nlohmann::json counts_for_sweep(sqlite::Database& db, std::int64_t id);
 
   StoreConfig config_;
-  std::mutex mutex_;  // one connection, used by one thread at a time
-  sqlite::Database db_;
+  std::mutex mutex_;          // the writer connection, used by one thread at a time
+  sqlite::Database db_;       // every write, in BEGIN IMMEDIATE transactions
+  sqlite::ReaderPool readers_;  // every read, each in a read transaction of its own connection
+  ArtifactFiles files_;       // the bytes of results' artifacts
 };
 
 }  // namespace compaction::server

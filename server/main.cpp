@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "app.hpp"
+#include "http_server.hpp"
 #include "compaction/result.hpp"
 #include "lease_rescuer.hpp"
 #include "options.hpp"
@@ -53,12 +56,15 @@ int main(int argc, char** argv) {
 
     App app{store, *options, {}, {}};
     app.limits.max_points = static_cast<std::size_t>(options->max_sweep_points);
+    app.limits.max_bundle_bytes = static_cast<std::size_t>(options->max_upload_mb) << 20;
 
-    httplib::Server server;
-    const int threads = options->http_threads;
-    server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-    server.set_payload_max_length(512ull << 20);  // result uploads carry the bundle's arrays
-    server.set_read_timeout(30, 0);
+    ConnectionLimits connections;
+    connections.max_threads = options->http_threads;
+    connections.request_timeout_seconds = options->request_timeout_seconds;
+    HttpServer server(connections);
+    // The request guard refuses a body above its endpoint's limit before reading it; this is
+    // the library's own cap, at the largest of those limits.
+    server.set_payload_max_length(app.limits.max_bundle_bytes);
     register_all_routes(server, app);
 
     const int port = options->port == 0 ? server.bind_to_any_port(options->host)
@@ -66,7 +72,8 @@ int main(int argc, char** argv) {
                                                ? options->port
                                                : -1);
     if (port < 0) {
-      spdlog::error("cannot listen on {}:{}", options->host, options->port);
+      spdlog::error("cannot listen on {}:{}: {} (is another server using the port?)",
+                    options->host, options->port, std::strerror(errno));
       return 1;
     }
     if (!options->port_file.empty()) {

@@ -2,6 +2,11 @@
 
 #include "compaction/text_numbers.hpp"
 
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -27,7 +32,12 @@ usage: compaction-server [options]
   --rescue-interval S        how often expired leases are requeued (default 5)
   --retry-backoff S          delay before the first retry, doubling per attempt (default 5)
   --max-sweep-points N       largest sweep accepted (default 2000)
-  --http-threads N           request handler threads (default 8)
+  --max-upload-mb N          largest result upload a worker may send, in MiB (default 256);
+                             sweeps whose results could not fit are refused at submission
+  --http-threads N           connections served at once; handler threads start on demand
+                             (default 128, at most 1024)
+  --request-timeout S        longest exchange of one request, body and answer (default 300);
+                             headers must arrive within 10 s, a silence of 10 s ends a request
   --log-level LEVEL          trace, debug, info, warn, error (default info)
   --help                     this text
 
@@ -36,7 +46,26 @@ API: /api/v1 (OpenAPI at /api/v1/openapi.yaml), metrics at /metrics, dashboard a
 }
 
 bool is_loopback_host(const std::string& host) {
-  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || !found) return false;
+  bool all_loopback = true;
+  for (const addrinfo* a = found; a; a = a->ai_next) {
+    if (a->ai_family == AF_INET) {
+      const auto* in = reinterpret_cast<const sockaddr_in*>(a->ai_addr);
+      all_loopback &= (ntohl(in->sin_addr.s_addr) >> 24) == 127;
+    } else if (a->ai_family == AF_INET6) {
+      const auto* in = reinterpret_cast<const sockaddr_in6*>(a->ai_addr);
+      all_loopback &= IN6_IS_ADDR_LOOPBACK(&in->sin6_addr) != 0;
+    } else {
+      all_loopback = false;
+    }
+  }
+  freeaddrinfo(found);
+  return all_loopback;
 }
 
 namespace {
@@ -72,7 +101,8 @@ std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& ex
         {"--db", 1}, {"--host", 1}, {"--port", 1}, {"--port-file", 1}, {"--submit-token", 1},
         {"--worker-token", 1}, {"--web-dir", 1}, {"--lease-seconds", 1},
         {"--rescue-interval", 1}, {"--retry-backoff", 1}, {"--max-sweep-points", 1},
-        {"--http-threads", 1}, {"--log-level", 1}};
+        {"--max-upload-mb", 1}, {"--http-threads", 1}, {"--request-timeout", 1},
+        {"--log-level", 1}};
     if (!with_value.count(flag)) return error(flag, "unknown option (see --help)");
     if (i + 1 >= argc) return error(flag, "needs a value");
     const std::string v = argv[++i];
@@ -115,9 +145,21 @@ std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& ex
         return error(flag, "must be an integer in [1, 1000000]");
       }
       o.max_sweep_points = n;
+    } else if (flag == "--max-upload-mb") {
+      if (!parse_int(v, n) || !range(n, 1, 4096)) {
+        return error(flag, "must be an integer in [1, 4096], got \"" + v + "\"");
+      }
+      o.max_upload_mb = n;
     } else if (flag == "--http-threads") {
-      if (!parse_int(v, n) || !range(n, 1, 256)) return error(flag, "must be in [1, 256]");
+      if (!parse_int(v, n) || !range(n, 1, 1024)) {
+        return error(flag, "must be an integer in [1, 1024], got \"" + v + "\"");
+      }
       o.http_threads = n;
+    } else if (flag == "--request-timeout") {
+      if (!parse_number(v, d) || !range(d, 1, 86400)) {
+        return error(flag, "must be a number of seconds in [1, 86400], got \"" + v + "\"");
+      }
+      o.request_timeout_seconds = d;
     } else if (flag == "--log-level") {
       if (v != "trace" && v != "debug" && v != "info" && v != "warn" && v != "error") {
         return error(flag, "must be trace, debug, info, warn or error");
@@ -127,7 +169,8 @@ std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& ex
   }
   if (!is_loopback_host(o.host) && (o.submit_token.empty() || o.worker_token.empty())) {
     return error("--host", "listening on " + o.host +
-                               " (beyond loopback) needs --submit-token and --worker-token");
+                               " (not a loopback address, or a name that does not resolve)"
+                               " needs --submit-token and --worker-token");
   }
   exit_code = 0;
   return o;

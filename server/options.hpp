@@ -19,7 +19,9 @@ struct ServerOptions {
   double rescue_interval_seconds = 5;       // how often expired leases are requeued
   double retry_backoff_seconds = 5;         // first retry delay, doubling per attempt
   int max_sweep_points = 2000;              // scenes per sweep
-  int http_threads = 8;                     // request handler threads
+  int max_upload_mb = 256;                  // largest result upload (a bundle)       [MiB]
+  int http_threads = 128;                   // connections served at once (threads start on demand)
+  double request_timeout_seconds = 300;     // one request, body and answer included
   std::string log_level = "info";
 };
 
@@ -30,6 +32,8 @@ std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& ex
 
 std::string server_usage();
 
+// Whether every address the host name resolves to is a loopback address (127.0.0.0/8, ::1);
+// false when it does not resolve.
 bool is_loopback_host(const std::string& host);
 
 }  // namespace compaction::server

@@ -7,6 +7,8 @@
 #include <set>
 
 #include "api_error.hpp"
+#include "safe_text.hpp"
+#include "compaction/bundle.hpp"
 #include "compaction/params_json.hpp"
 #include "presets.hpp"
 
@@ -40,7 +42,7 @@ std::string num(double v) {
 int integer_in(const json& body, const char* key, int fallback, int lo, int hi) {
   if (!body.contains(key)) return fallback;
   const json& v = body[key];
-  if (!v.is_number_integer()) invalid(key, std::string("must be an integer, got ") + v.dump());
+  if (!v.is_number_integer()) invalid(key, std::string("must be an integer, got ") + describe(v));
   const auto i = v.get<long long>();
   if (i < lo || i > hi) {
     invalid(key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
@@ -54,7 +56,7 @@ SceneParams base_scene(const json& body, std::string& preset_name) {
   json numerics = json::object();
   if (body.contains("numerics")) {
     numerics = body["numerics"];
-    if (!numerics.is_object()) invalid("numerics", "must be an object, got " + numerics.dump());
+    if (!numerics.is_object()) invalid("numerics", "must be an object, got " + describe(numerics));
   }
   for (const auto& [key, value] : numerics.items()) {
     if (!numerics_keys.count(key)) invalid("numerics." + key, "unknown numerics key");
@@ -65,7 +67,7 @@ SceneParams base_scene(const json& body, std::string& preset_name) {
     if (!p.is_string() || !find_preset(p.get<std::string>())) {
       std::string names;
       for (const auto& pr : presets()) names += (names.empty() ? "" : ", ") + pr.name;
-      invalid("numerics.preset", "must be one of " + names + ", got " + p.dump());
+      invalid("numerics.preset", "must be one of " + names + ", got " + describe(p));
     }
     preset_name = p.get<std::string>();
     numerics.erase("preset");
@@ -95,9 +97,13 @@ SceneParams base_scene(const json& body, std::string& preset_name) {
 // Applies S, R, phi to the base scene and validates the whole; errors are prefixed by `where`
 // for S, R and phi ("points[3].phi", or the axis name) and by "numerics." for the rest.
 SceneParams make_scene(const SceneParams& base, double S, double R, double phi,
-                       const std::string& where) {
+                       const std::string& where, const PlannerLimits& limits) {
   SceneParams p = base;
   json point = {{"S", S}, {"R", R}, {"phi", phi}};
+  if (phi == kSolidColumnPhi) {
+    invalid(where + "phi", "must be in [" + num(kPhiMin) + ", " + num(kPhiMax) +
+                               "] (the solid column, phi = 1, is for the engine's tests)");
+  }
   std::vector<FieldError> errors = from_json(point, p);
   if (!errors.empty()) {
     std::vector<FieldError> named;
@@ -107,13 +113,20 @@ SceneParams make_scene(const SceneParams& base, double S, double R, double phi,
     }
     throw ApiError(422, std::move(named));
   }
+  const std::size_t bundle = bundle_size_bound(p);
+  if (bundle > limits.max_bundle_bytes) {
+    invalid("numerics.snapshot_eps",
+            "the result at S = " + num(S) + ", R = " + num(R) + ", phi = " + num(phi) +
+                " may take up to " + std::to_string(bundle >> 20) + " MiB, above the server's upload limit of " +
+                std::to_string(limits.max_bundle_bytes >> 20) + " MiB: ask for fewer snapshots");
+  }
   return p;
 }
 
 double point_value(const json& point, const char* key, const std::string& where) {
   if (!point.contains(key)) invalid(where + key, "is required");
   const json& v = point[key];
-  if (!finite_number(v)) invalid(where + key, "must be a finite number, got " + v.dump());
+  if (!finite_number(v)) invalid(where + key, "must be a finite number, got " + describe(v));
   return v.get<double>();
 }
 
@@ -142,7 +155,7 @@ std::vector<double> expand_axis(const json& axis, const std::string& field,
     for (std::size_t i = 0; i < axis.size(); ++i) {
       if (!finite_number(axis[i])) {
         invalid(field + "[" + std::to_string(i) + "]",
-                "must be a finite number, got " + axis[i].dump());
+                "must be a finite number, got " + describe(axis[i]));
       }
       out.push_back(axis[i].get<double>());
     }
@@ -150,7 +163,7 @@ std::vector<double> expand_axis(const json& axis, const std::string& field,
   }
   if (!axis.is_object()) {
     invalid(field, "must be a number, an array of numbers or {min, max, n, scale}, got " +
-                       axis.dump());
+                       describe(axis));
   }
   for (const auto& [key, value] : axis.items()) {
     if (key != "min" && key != "max" && key != "n" && key != "scale") {
@@ -160,12 +173,12 @@ std::vector<double> expand_axis(const json& axis, const std::string& field,
   for (const char* key : {"min", "max"}) {
     if (!axis.contains(key)) invalid(field + "." + key, "is required");
     if (!finite_number(axis[key])) {
-      invalid(field + "." + key, "must be a finite number, got " + axis[key].dump());
+      invalid(field + "." + key, "must be a finite number, got " + describe(axis[key]));
     }
   }
   if (!axis.contains("n")) invalid(field + ".n", "is required");
   if (!axis["n"].is_number_integer()) {
-    invalid(field + ".n", "must be an integer, got " + axis["n"].dump());
+    invalid(field + ".n", "must be an integer, got " + describe(axis["n"]));
   }
   const long long n = axis["n"].get<long long>();
   if (n < 1) invalid(field + ".n", "must be at least 1, got " + std::to_string(n));
@@ -177,7 +190,7 @@ std::vector<double> expand_axis(const json& axis, const std::string& field,
   if (axis.contains("scale")) {
     if (!axis["scale"].is_string() ||
         (axis["scale"] != "log" && axis["scale"] != "linear")) {
-      invalid(field + ".scale", "must be \"log\" or \"linear\", got " + axis["scale"].dump());
+      invalid(field + ".scale", "must be \"log\" or \"linear\", got " + describe(axis["scale"]));
     }
     scale = axis["scale"].get<std::string>();
   }
@@ -216,9 +229,10 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
   plan.request = body;
 
   if (!body.contains("name")) invalid("name", "is required");
-  if (!body["name"].is_string()) invalid("name", "must be a string, got " + body["name"].dump());
+  if (!body["name"].is_string()) invalid("name", "must be a string, got " + describe(body["name"]));
   plan.name = body["name"].get<std::string>();
-  if (plan.name.empty() || plan.name.size() > 200) invalid("name", "must be 1 to 200 characters");
+  if (plan.name.empty() || plan.name.size() > 200) invalid("name", "must be 1 to 200 bytes");
+  if (has_control_characters(plan.name)) invalid("name", "must not hold control characters");
   plan.priority = integer_in(body, "priority", 0, -1000, 1000);
   plan.max_attempts = integer_in(body, "max_attempts", 3, 1, limits.max_attempts);
 
@@ -236,7 +250,7 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
 
   if (has_points) {
     const json& points = body["points"];
-    if (!points.is_array()) invalid("points", "must be an array, got " + points.dump());
+    if (!points.is_array()) invalid("points", "must be an array, got " + describe(points));
     if (points.empty()) invalid("points", "must not be empty");
     if (points.size() > limits.max_points) {
       invalid("points", std::to_string(points.size()) + " points exceed the sweep limit of " +
@@ -250,7 +264,7 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
         if (key != "S" && key != "R" && key != "phi") invalid(where + key, "unknown key");
       }
       add(make_scene(base, point_value(pt, "S", where), point_value(pt, "R", where),
-                     point_value(pt, "phi", where), where));
+                     point_value(pt, "phi", where), where, limits));
     }
     return plan;
   }
@@ -274,7 +288,7 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
     for (double r : R) {
       for (double s : S) {
         // Grid errors name the axis ("S") rather than a point.
-        add(make_scene(base, s, r, f, ""));
+        add(make_scene(base, s, r, f, "", limits));
       }
     }
   }

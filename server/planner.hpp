@@ -26,6 +26,7 @@ namespace compaction::server {
 struct PlannerLimits {
   std::size_t max_points = 2000;  // scenes per sweep
   int max_attempts = 10;          // upper bound of a sweep's max_attempts
+  std::size_t max_bundle_bytes = std::size_t(256) << 20;  // the server's result upload limit
 };
 
 struct SweepPlan {

@@ -3,7 +3,9 @@
 #include <cmath>
 
 #include "api_error.hpp"
+#include "safe_text.hpp"
 #include "compaction/params_json.hpp"
+#include "json_input.hpp"
 #include "planner.hpp"
 
 namespace compaction::server {
@@ -24,7 +26,7 @@ std::optional<double> optional_number(const json& obj, const char* key, const st
   if (!obj.contains(key) || obj[key].is_null()) return std::nullopt;
   const json& v = obj[key];
   if (!v.is_number() || !std::isfinite(v.get<double>())) {
-    invalid(field + "." + key, "must be a finite number or null, got " + v.dump());
+    invalid(field + "." + key, "must be a finite number or null, got " + describe(v));
   }
   return v.get<double>();
 }
@@ -46,7 +48,7 @@ void read_classification(const json& summary, ResultRecord& r) {
     const json& k = c["class"];
     if (!k.is_string() || k.get<std::string>().size() != 1 ||
         std::string("abcdef").find(k.get<std::string>()) == std::string::npos) {
-      invalid(f + ".class", "must be one of a, b, c, d, e, f, got " + k.dump());
+      invalid(f + ".class", "must be one of a, b, c, d, e, f, got " + describe(k));
     }
     r.cls = k.get<std::string>();
   }
@@ -93,8 +95,8 @@ std::string artifact_content_type(const std::string& name) {
 
 ResultRecord intake_result(const std::string& summary_text, const std::string& job_scene,
                            const std::string& job_engine_version, std::vector<UploadedFile> files) {
-  json summary = json::parse(summary_text, nullptr, false);
-  if (summary.is_discarded() || !summary.is_object()) {
+  json summary = parse_client_json(summary_text, "summary", 422);
+  if (!summary.is_object()) {
     invalid("summary", "must be a JSON object (the bundle's summary.json)");
   }
   ResultRecord r;
@@ -141,7 +143,7 @@ ResultRecord intake_result(const std::string& summary_text, const std::string& j
   }
   for (auto& f : files) {
     if (!valid_artifact_name(f.name)) {
-      invalid("files[" + f.name + "]",
+      invalid("files[" + valid_utf8(f.name.substr(0, 100)) + "]",
               "artifact names are letters, digits, '_', '-', '.' ending in .npy, .png, .csv "
               "or .json");
     }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "compaction/bundle.hpp"
 #include "job_store.hpp"
 
 namespace compaction::server {
@@ -15,7 +16,9 @@ struct UploadedFile {
   std::string data;
 };
 
-constexpr std::size_t max_artifacts = 64;
+// A bundle's files (compaction/bundle.hpp): the scene's validation caps the snapshots so that
+// every valid scene's result fits.
+constexpr std::size_t max_artifacts = compaction::kMaxBundleFiles;
 
 // job_scene: the job's canonical scene; the summary's "params" must describe the same scene
 // (threads may differ: it does not change the result).

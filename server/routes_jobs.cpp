@@ -1,5 +1,6 @@
 // /api/v1/jobs (list with filters, show, artifacts) and /api/v1/phase-map.
 #include "app.hpp"
+#include "endpoints.hpp"
 #include "http_util.hpp"
 #include "result_intake.hpp"
 
@@ -8,7 +9,7 @@ namespace compaction::server {
 using nlohmann::json;
 
 void register_job_routes(httplib::Server& server, App& app) {
-  server.Get("/api/v1/jobs", guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::list_jobs, [&app](const httplib::Request& req, httplib::Response& res) {
     JobFilter f;
     f.sweep_id = query_id(req, "sweep");
     if (req.has_param("state")) {
@@ -21,17 +22,17 @@ void register_job_routes(httplib::Server& server, App& app) {
     f.limit = query_int(req, "limit", 100, 1, 1000);
     f.offset = query_int(req, "offset", 0, 0, 1000000000);
     send_json(res, 200, app.store.list_jobs(f));
-  }));
+  });
 
-  server.Get(R"(/api/v1/jobs/(\d+))",
-             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::show_job,
+             [&app](const httplib::Request& req, httplib::Response& res) {
                const auto j = app.store.job(path_id(req, 1, "job"));
                if (!j) throw ApiError(404, "id", "no such job");
                send_json(res, 200, *j);
-             }));
+             });
 
-  server.Get(R"(/api/v1/jobs/(\d+)/artifacts)",
-             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::list_artifacts,
+             [&app](const httplib::Request& req, httplib::Response& res) {
                const std::int64_t id = path_id(req, 1, "job");
                const auto list = app.store.list_artifacts(id);
                if (!list) throw ApiError(404, "id", "no such job");
@@ -41,10 +42,10 @@ void register_job_routes(httplib::Server& server, App& app) {
                             a["name"].get<std::string>();
                }
                send_json(res, 200, out);
-             }));
+             });
 
-  server.Get(R"(/api/v1/jobs/(\d+)/artifacts/([^/]+))",
-             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::artifact,
+             [&app](const httplib::Request& req, httplib::Response& res) {
                const std::int64_t id = path_id(req, 1, "job");
                const std::string name = req.matches[2];
                if (!valid_artifact_name(name)) throw ApiError(404, "name", "no such artifact");
@@ -52,14 +53,14 @@ void register_job_routes(httplib::Server& server, App& app) {
                if (!a) throw ApiError(404, "name", "no such artifact for job " + std::to_string(id));
                res.status = 200;
                res.set_content(a->data, a->content_type.c_str());
-             }));
+             });
 
-  server.Get("/api/v1/phase-map",
-             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::phase_map,
+             [&app](const httplib::Request& req, httplib::Response& res) {
                const auto phi = query_number(req, "phi");
                if (!phi) throw ApiError(422, "phi", "is required (e.g. ?phi=0.4)");
                send_json(res, 200, app.store.phase_map(*phi, query_id(req, "sweep")));
-             }));
+             });
 }
 
 }  // namespace compaction::server

@@ -1,14 +1,16 @@
 // The worker's side of the queue: lease a job, heartbeat, complete (upload the result), fail,
-// release. All need the worker token; every call after the lease needs the live lease token
-// (a stale one answers 409 and changes nothing).
+// release. The worker token is checked by the request guard before a body is read; every call
+// after the lease needs the live lease token (a stale one answers 409 and changes nothing).
 #include <cmath>
 
 #include <spdlog/spdlog.h>
 
 #include "app.hpp"
 #include "clock.hpp"
+#include "endpoints.hpp"
 #include "http_util.hpp"
 #include "result_intake.hpp"
+#include "safe_text.hpp"
 
 namespace compaction::server {
 
@@ -26,113 +28,104 @@ void check_lease(LeaseCheck c) {
 
 std::string lease_token(const json& body) { return body_string(body, "lease_token", 200); }
 
+void lease(App& app, const httplib::Request& req, httplib::Response& res) {
+  const json body = parse_json_body(req);
+  const std::string worker = body_string(body, "worker", 200);
+  const std::string version = body_string(body, "engine_version", 100);
+  for (const auto& [key, value] : body.items()) {
+    if (key != "worker" && key != "engine_version") throw ApiError(422, key, "unknown key");
+  }
+  const auto lease = app.store.lease(worker, version, now_ms());
+  if (!lease) {
+    res.status = 204;  // nothing to do now
+    return;
+  }
+  spdlog::info("job leased id={} worker={} attempt={}/{}", lease->job_id, log_escape(worker),
+               lease->attempt, lease->max_attempts);
+  send_json(res, 200,
+            {{"job_id", lease->job_id},
+             {"lease_token", lease->token},
+             {"lease_deadline", lease->deadline},
+             {"lease_seconds", app.options.lease_seconds},
+             {"attempt", lease->attempt},
+             {"max_attempts", lease->max_attempts},
+             {"scene", json::parse(lease->scene)}});
+}
+
+void heartbeat(App& app, const httplib::Request& req, httplib::Response& res) {
+  const std::int64_t id = path_id(req, 1, "job");
+  const json body = parse_json_body(req);
+  const std::string token = lease_token(body);
+  double eps = 0.0;
+  if (body.contains("eps")) {
+    const json& e = body["eps"];
+    if (!e.is_number() || !std::isfinite(e.get<double>()) || e.get<double>() < 0.0 ||
+        e.get<double>() > 1.0) {
+      throw ApiError(422, "eps", "must be a number in [0, 1], got " + describe(e));
+    }
+    eps = e.get<double>();
+  }
+  Millis deadline = 0;
+  check_lease(app.store.heartbeat(id, token, eps, now_ms(), deadline));
+  send_json(res, 200, {{"lease_deadline", deadline}});
+}
+
+void complete(App& app, const httplib::Request& req, httplib::Response& res) {
+  const std::int64_t id = path_id(req, 1, "job");
+  if (!req.has_file("lease_token")) throw ApiError(422, "lease_token", "is required");
+  if (!req.has_file("summary")) throw ApiError(422, "summary", "is required");
+  const std::string token = req.get_file_value("lease_token").content;
+  check_lease(app.store.check_lease(id, token));
+  const auto job = app.store.job_scene(id);
+  if (!job) throw ApiError(404, "id", "no such job");
+  std::vector<UploadedFile> files;
+  for (const auto& [name, part] : req.files) {
+    if (name == "lease_token" || name == "summary") continue;
+    if (name != "files") throw ApiError(422, valid_utf8(name.substr(0, 100)), "unknown form field");
+    files.push_back({part.filename, part.content});
+  }
+  ResultRecord r = intake_result(req.get_file_value("summary").content, job->first,
+                                 job->second, std::move(files));
+  check_lease(app.store.complete(id, token, r, now_ms()));
+  spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
+               r.cls.value_or("-"), r.artifacts.size());
+  send_json(res, 200, {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}});
+}
+
+void fail(App& app, const httplib::Request& req, httplib::Response& res) {
+  const std::int64_t id = path_id(req, 1, "job");
+  const json body = parse_json_body(req);
+  const std::string token = lease_token(body);
+  const std::string reason = body_string(body, "reason", 20000, TextKind::free_text);
+  bool retryable = true;
+  if (body.contains("retryable")) {
+    if (!body["retryable"].is_boolean()) throw ApiError(422, "retryable", "must be true or false");
+    retryable = body["retryable"].get<bool>();
+  }
+  const FailOutcome out = app.store.fail(id, token, reason, retryable, now_ms());
+  check_lease(out.check);
+  spdlog::warn("job failed id={} retryable={} now={} reason=\"{}\"", id, retryable,
+               to_string(out.state), log_escape(reason, 500));
+  send_json(res, 200, {{"job_id", id}, {"state", to_string(out.state)}, {"run_after", out.run_after}});
+}
+
+void release(App& app, const httplib::Request& req, httplib::Response& res) {
+  const std::int64_t id = path_id(req, 1, "job");
+  const json body = parse_json_body(req);
+  check_lease(app.store.release(id, lease_token(body), now_ms()));
+  spdlog::info("job released id={}", id);
+  send_json(res, 200, {{"job_id", id}, {"state", "queued"}});
+}
+
 }  // namespace
 
 void register_queue_routes(httplib::Server& server, App& app) {
-  server.Post("/api/v1/leases", guarded([&app](const httplib::Request& req, httplib::Response& res) {
-    require_token(req, app.options.worker_token);
-    const json body = parse_json_body(req);
-    const std::string worker = body_string(body, "worker", 200);
-    const std::string version = body_string(body, "engine_version", 100);
-    for (const auto& [key, value] : body.items()) {
-      if (key != "worker" && key != "engine_version") throw ApiError(422, key, "unknown key");
-    }
-    const auto lease = app.store.lease(worker, version, now_ms());
-    if (!lease) {
-      res.status = 204;  // nothing to do now
-      return;
-    }
-    spdlog::info("job leased id={} worker={} attempt={}/{}", lease->job_id, worker,
-                 lease->attempt, lease->max_attempts);
-    send_json(res, 200,
-              {{"job_id", lease->job_id},
-               {"lease_token", lease->token},
-               {"lease_deadline", lease->deadline},
-               {"lease_seconds", app.options.lease_seconds},
-               {"attempt", lease->attempt},
-               {"max_attempts", lease->max_attempts},
-               {"scene", json::parse(lease->scene)}});
-  }));
-
-  server.Post(R"(/api/v1/jobs/(\d+)/heartbeat)",
-              guarded([&app](const httplib::Request& req, httplib::Response& res) {
-                require_token(req, app.options.worker_token);
-                const std::int64_t id = path_id(req, 1, "job");
-                const json body = parse_json_body(req);
-                const std::string token = lease_token(body);
-                double eps = 0.0;
-                if (body.contains("eps")) {
-                  const json& e = body["eps"];
-                  if (!e.is_number() || !std::isfinite(e.get<double>()) || e.get<double>() < 0.0 ||
-                      e.get<double>() > 1.0) {
-                    throw ApiError(422, "eps", "must be a number in [0, 1], got " + e.dump());
-                  }
-                  eps = e.get<double>();
-                }
-                Millis deadline = 0;
-                check_lease(app.store.heartbeat(id, token, eps, now_ms(), deadline));
-                send_json(res, 200, {{"lease_deadline", deadline}});
-              }));
-
-  server.Post(R"(/api/v1/jobs/(\d+)/complete)",
-              guarded([&app](const httplib::Request& req, httplib::Response& res) {
-                require_token(req, app.options.worker_token);
-                const std::int64_t id = path_id(req, 1, "job");
-                if (!req.is_multipart_form_data()) {
-                  throw ApiError(415, "Content-Type",
-                                 "must be multipart/form-data with lease_token, summary, files");
-                }
-                if (!req.has_file("lease_token")) throw ApiError(422, "lease_token", "is required");
-                if (!req.has_file("summary")) throw ApiError(422, "summary", "is required");
-                const std::string token = req.get_file_value("lease_token").content;
-                check_lease(app.store.check_lease(id, token));
-                const auto job = app.store.job_scene(id);
-                if (!job) throw ApiError(404, "id", "no such job");
-                std::vector<UploadedFile> files;
-                for (const auto& [name, part] : req.files) {
-                  if (name == "lease_token" || name == "summary") continue;
-                  if (name != "files") throw ApiError(422, name, "unknown form field");
-                  files.push_back({part.filename, part.content});
-                }
-                ResultRecord r = intake_result(req.get_file_value("summary").content, job->first,
-                                               job->second, std::move(files));
-                check_lease(app.store.complete(id, token, r, now_ms()));
-                spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
-                             r.cls.value_or("-"), r.artifacts.size());
-                send_json(res, 200, {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}});
-              }));
-
-  server.Post(R"(/api/v1/jobs/(\d+)/fail)",
-              guarded([&app](const httplib::Request& req, httplib::Response& res) {
-                require_token(req, app.options.worker_token);
-                const std::int64_t id = path_id(req, 1, "job");
-                const json body = parse_json_body(req);
-                const std::string token = lease_token(body);
-                const std::string reason = body_string(body, "reason", 20000);
-                bool retryable = true;
-                if (body.contains("retryable")) {
-                  if (!body["retryable"].is_boolean()) {
-                    throw ApiError(422, "retryable", "must be true or false");
-                  }
-                  retryable = body["retryable"].get<bool>();
-                }
-                const FailOutcome out = app.store.fail(id, token, reason, retryable, now_ms());
-                check_lease(out.check);
-                spdlog::warn("job failed id={} retryable={} now={} reason=\"{}\"", id, retryable,
-                             to_string(out.state), reason);
-                send_json(res, 200,
-                          {{"job_id", id}, {"state", to_string(out.state)}, {"run_after", out.run_after}});
-              }));
-
-  server.Post(R"(/api/v1/jobs/(\d+)/release)",
-              guarded([&app](const httplib::Request& req, httplib::Response& res) {
-                require_token(req, app.options.worker_token);
-                const std::int64_t id = path_id(req, 1, "job");
-                const json body = parse_json_body(req);
-                check_lease(app.store.release(id, lease_token(body), now_ms()));
-                spdlog::info("job released id={}", id);
-                send_json(res, 200, {{"job_id", id}, {"state", "queued"}});
-              }));
+  using namespace std::placeholders;
+  add_route(server, endpoints::lease, std::bind(lease, std::ref(app), _1, _2));
+  add_route(server, endpoints::heartbeat, std::bind(heartbeat, std::ref(app), _1, _2));
+  add_route(server, endpoints::complete, std::bind(complete, std::ref(app), _1, _2));
+  add_route(server, endpoints::fail, std::bind(fail, std::ref(app), _1, _2));
+  add_route(server, endpoints::release, std::bind(release, std::ref(app), _1, _2));
 }
 
 }  // namespace compaction::server

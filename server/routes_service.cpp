@@ -4,9 +4,12 @@
 
 #include "app.hpp"
 #include "compaction/result.hpp"
+#include "endpoints.hpp"
 #include "http_util.hpp"
 #include "metrics.hpp"
 #include "presets.hpp"
+#include "request_guard.hpp"
+#include "safe_text.hpp"
 
 namespace compaction::server {
 
@@ -15,7 +18,7 @@ extern const char* const openapi_yaml;  // generated from server/openapi.yaml
 using nlohmann::json;
 
 void register_service_routes(httplib::Server& server, App& app) {
-  server.Get("/api/v1/health", guarded([&app](const httplib::Request&, httplib::Response& res) {
+  add_route(server, endpoints::health, [&app](const httplib::Request&, httplib::Response& res) {
     const StoreMetrics m = app.store.metrics();  // touches the database: a real check
     json jobs = json::object();
     for (const auto& [state, n] : m.jobs_by_state) jobs[state] = n;
@@ -24,22 +27,22 @@ void register_service_routes(httplib::Server& server, App& app) {
                {"engine_version", compaction::engine_version()},
                {"source_revision", compaction::source_revision()},
                {"jobs", jobs}});
-  }));
+  });
 
-  auto metrics = guarded([&app](const httplib::Request&, httplib::Response& res) {
+  auto metrics = [&app](const httplib::Request&, httplib::Response& res) {
     res.status = 200;
     res.set_content(render_metrics(app.store.metrics(), app.requests),
                     "text/plain; version=0.0.4");
-  });
-  server.Get("/metrics", metrics);
-  server.Get("/api/v1/metrics", metrics);
+  };
+  add_route(server, endpoints::metrics, metrics);
+  add_route(server, endpoints::api_metrics, metrics);
 
-  server.Get("/api/v1/openapi.yaml", [](const httplib::Request&, httplib::Response& res) {
+  add_route(server, endpoints::openapi, [](const httplib::Request&, httplib::Response& res) {
     res.status = 200;
     res.set_content(openapi_yaml, "application/yaml");
   });
 
-  server.Get("/api/v1/presets", [](const httplib::Request&, httplib::Response& res) {
+  add_route(server, endpoints::presets, [](const httplib::Request&, httplib::Response& res) {
     json out = json::array();
     for (const Preset& p : presets()) {
       out.push_back({{"name", p.name},
@@ -58,19 +61,39 @@ void register_service_routes(httplib::Server& server, App& app) {
 }
 
 void register_all_routes(httplib::Server& server, App& app) {
+  install_request_guard(server, guard_config(app.options));
+  // Artifacts and errors are data: a browser must never guess another type for them.
+  server.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
   register_sweep_routes(server, app);
   register_job_routes(server, app);
   register_queue_routes(server, app);
   register_service_routes(server, app);
 
   // Unknown paths and methods: a JSON error (the handlers' own errors already have a body).
+  // Errors cpp-httplib found itself (before or instead of a handler): the field is the part
+  // of the request at fault.
   server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;
-    const std::string message = res.status == 404   ? "no such resource: " + req.path
-                                : res.status == 405 ? "method not allowed"
-                                : res.status == 413 ? "request body too large"
-                                                    : "request failed";
-    send_json(res, res.status, ApiError(res.status, "path", message).body());
+    try {
+      std::string field = "path", message;
+      switch (res.status) {
+        case 404: message = "no such resource: " + valid_utf8(req.path.substr(0, 200)); break;
+        case 405: message = "method not allowed"; break;
+        case 413: field = "body", message = "request body too large"; break;
+        case 414: message = "request line too long"; break;
+        case 416: field = "Range", message = "invalid Range header"; break;
+        case 400:
+          field = "request";
+          message = "malformed request: bad request line or headers, or a truncated or "
+                    "malformed body";
+          break;
+        default: field = "request", message = "request failed"; break;
+      }
+      send_json(res, res.status, ApiError(res.status, field, message).body());
+    } catch (...) {
+      res.set_content(R"({"error": {"field": "request", "message": "request failed"}})",
+                      "application/json");
+    }
   });
   server.set_exception_handler(
       [](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
@@ -81,8 +104,7 @@ void register_all_routes(httplib::Server& server, App& app) {
           what = e.what();
         } catch (...) {
         }
-        spdlog::error("{} {}: {}", req.method, req.path, what);
-        send_json(res, 500, ApiError(500, "", "internal error").body());
+        send_internal_error(req, res, what);
       });
   server.set_logger([&app](const httplib::Request& req, const httplib::Response& res) {
     if (res.status >= 500) {
@@ -93,9 +115,11 @@ void register_all_routes(httplib::Server& server, App& app) {
       ++app.requests.ok;
     }
     if (res.status >= 400) {
-      spdlog::info("http {} {} -> {} {}", req.method, req.path, res.status, res.body.substr(0, 300));
+      spdlog::info("http {} {} -> {} {}", log_escape(req.method, 20), log_escape(req.path),
+                   res.status, log_escape(res.body, 300));
     } else {
-      spdlog::debug("http {} {} -> {}", req.method, req.path, res.status);
+      spdlog::debug("http {} {} -> {}", log_escape(req.method, 20), log_escape(req.path),
+                    res.status);
     }
   });
 }

@@ -5,7 +5,9 @@
 
 #include "app.hpp"
 #include "clock.hpp"
+#include "endpoints.hpp"
 #include "http_util.hpp"
+#include "safe_text.hpp"
 
 namespace compaction::server {
 
@@ -51,47 +53,45 @@ std::string export_csv(const json& rows) {
 }  // namespace
 
 void register_sweep_routes(httplib::Server& server, App& app) {
-  server.Post("/api/v1/sweeps", guarded([&app](const httplib::Request& req, httplib::Response& res) {
-    require_token(req, app.options.submit_token);
+  add_route(server, endpoints::create_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
     const json body = parse_json_body(req);
     const SweepPlan plan = plan_sweep(body, app.limits);
     const CreatedSweep c = app.store.create_sweep(plan, now_ms());
     spdlog::info("sweep created id={} name=\"{}\" jobs={} new={} reused={} shared={} requeued={}",
-                 c.id, plan.name, c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
+                 c.id, log_escape(plan.name), c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
     json out = *app.store.sweep(c.id);
     out["created"] = {{"jobs", c.n_jobs},     {"new", c.n_new},
                       {"reused", c.n_reused}, {"shared", c.n_shared},
                       {"requeued", c.n_requeued}, {"preset", plan.preset}};
     res.set_header("Location", "/api/v1/sweeps/" + std::to_string(c.id));
     send_json(res, 201, out);
-  }));
+  });
 
-  server.Get("/api/v1/sweeps", guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::list_sweeps, [&app](const httplib::Request& req, httplib::Response& res) {
     const int limit = query_int(req, "limit", 100, 1, 1000);
     const int offset = query_int(req, "offset", 0, 0, 1000000000);
     send_json(res, 200, app.store.list_sweeps(limit, offset));
-  }));
+  });
 
-  server.Get(R"(/api/v1/sweeps/(\d+))",
-             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::show_sweep,
+             [&app](const httplib::Request& req, httplib::Response& res) {
                const auto s = app.store.sweep(path_id(req, 1, "sweep"));
                if (!s) throw ApiError(404, "id", "no such sweep");
                send_json(res, 200, *s);
-             }));
+             });
 
-  server.Post(R"(/api/v1/sweeps/(\d+)/cancel)",
-              guarded([&app](const httplib::Request& req, httplib::Response& res) {
-                require_token(req, app.options.submit_token);
+  add_route(server, endpoints::cancel_sweep,
+              [&app](const httplib::Request& req, httplib::Response& res) {
                 const std::int64_t id = path_id(req, 1, "sweep");
                 const auto out = app.store.cancel_sweep(id, now_ms());
                 if (!out) throw ApiError(404, "id", "no such sweep");
                 spdlog::info("sweep cancelled id={} jobs_cancelled={}", id,
                              (*out)["cancelled_jobs"].get<std::int64_t>());
                 send_json(res, 200, *out);
-              }));
+              });
 
-  server.Get(R"(/api/v1/sweeps/(\d+)/export)",
-             guarded([&app](const httplib::Request& req, httplib::Response& res) {
+  add_route(server, endpoints::export_sweep,
+             [&app](const httplib::Request& req, httplib::Response& res) {
                const std::int64_t id = path_id(req, 1, "sweep");
                const std::string format =
                    req.has_param("format") ? req.get_param_value("format") : "json";
@@ -109,7 +109,7 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                } else {
                  send_json(res, 200, {{"sweep", *sweep}, {"jobs", *rows}});
                }
-             }));
+             });
 }
 
 }  // namespace compaction::server

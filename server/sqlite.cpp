@@ -10,8 +10,10 @@ namespace {
 }
 }  // namespace
 
-Database::Database(const std::string& path, int busy_timeout_ms) {
-  const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX;
+Database::Database(const std::string& path, int busy_timeout_ms, Access access) {
+  const int flags = (access == Access::read_only ? SQLITE_OPEN_READONLY
+                                                 : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) |
+                    SQLITE_OPEN_FULLMUTEX;
   if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
     std::string msg = "cannot open database " + path + ": " +
                       (db_ ? sqlite3_errmsg(db_) : "out of memory");
@@ -140,6 +142,35 @@ Transaction::~Transaction() {
 void Transaction::commit() {
   db_.prepare("COMMIT").run();
   done_ = true;
+}
+
+ReadTransaction::ReadTransaction(Database& db) : db_(db) { db_.prepare("BEGIN").run(); }
+
+ReadTransaction::~ReadTransaction() {
+  try {
+    db_.prepare("COMMIT").run();
+  } catch (...) {
+    // A read transaction has nothing to lose; the next BEGIN fails loudly if the connection
+    // is unusable.
+  }
+}
+
+ReaderPool::Handle ReaderPool::take() {
+  {
+    std::lock_guard lock(mutex_);
+    if (!idle_.empty()) {
+      auto db = std::move(idle_.back());
+      idle_.pop_back();
+      return Handle(*this, std::move(db));
+    }
+  }
+  return Handle(*this, std::make_unique<Database>(path_, 5000, Access::read_only));
+}
+
+void ReaderPool::give_back(std::unique_ptr<Database> db) {
+  if (!db) return;
+  std::lock_guard lock(mutex_);
+  idle_.push_back(std::move(db));
 }
 
 }  // namespace compaction::server::sqlite

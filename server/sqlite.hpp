@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -21,10 +23,14 @@ struct Error : std::runtime_error {
 
 class Statement;
 
+enum class Access { read_write, read_only };
+
 class Database {
  public:
   // Opens (creating) the file, sets WAL, synchronous FULL, foreign keys and the busy timeout.
-  explicit Database(const std::string& path, int busy_timeout_ms = 5000);
+  // A read-only connection needs the file to exist in WAL mode already.
+  explicit Database(const std::string& path, int busy_timeout_ms = 5000,
+                    Access access = Access::read_write);
   ~Database();
   Database(const Database&) = delete;
   Database& operator=(const Database&) = delete;
@@ -95,6 +101,49 @@ class Transaction {
  private:
   Database& db_;
   bool done_ = false;
+};
+
+// A read transaction (BEGIN DEFERRED ... COMMIT): the statements inside it see one snapshot
+// of the database (WAL), while a writer on another connection goes on.
+class ReadTransaction {
+ public:
+  explicit ReadTransaction(Database& db);
+  ~ReadTransaction();
+  ReadTransaction(const ReadTransaction&) = delete;
+  ReadTransaction& operator=(const ReadTransaction&) = delete;
+
+ private:
+  Database& db_;
+};
+
+// Read-only connections to one database file, opened on demand and reused: each reader
+// thread takes its own, so reads never wait for each other or for the writer.
+class ReaderPool {
+ public:
+  explicit ReaderPool(std::string path) : path_(std::move(path)) {}
+
+  class Handle {
+   public:
+    Handle(ReaderPool& pool, std::unique_ptr<Database> db) : pool_(pool), db_(std::move(db)) {}
+    ~Handle() { pool_.give_back(std::move(db_)); }
+    Handle(const Handle&) = delete;
+    Handle& operator=(const Handle&) = delete;
+    Database& operator*() { return *db_; }
+    Database* operator->() { return db_.get(); }
+
+   private:
+    ReaderPool& pool_;
+    std::unique_ptr<Database> db_;
+  };
+
+  Handle take();
+
+ private:
+  void give_back(std::unique_ptr<Database> db);
+
+  std::string path_;
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<Database>> idle_;
 };
 
 }  // namespace compaction::server::sqlite

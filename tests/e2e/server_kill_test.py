@@ -1,6 +1,8 @@
 """kill -9 of the server in the middle of a sweep, then a restart on the same database file and
 port: every sweep, job and result stored before the kill survives unchanged, the workers carry
 on, and the sweep completes with one result per job."""
+import glob
+import os
 import signal
 import time
 
@@ -48,7 +50,13 @@ for r in stored_results:
 artifacts = env.query("SELECT job_id, name, size FROM artifacts ORDER BY job_id, name")
 for a in stored_artifacts:
     check(a in artifacts, "artifact %s survives" % (a,))
-check(env.query("SELECT count(*) FROM schema_migrations") == [(1,)], "migrations applied once")
+for job_id, name, size in stored_artifacts:
+    status, data = env.get_bytes("/api/v1/jobs/%d/artifacts/%s" % (job_id, name))
+    check(status == 200 and len(data) == size, "artifact %s of job %d served whole after the restart" % (name, job_id))
+migrations = glob.glob(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "schema", "migrations", "*.sql"))
+check(env.query("SELECT count(*) FROM schema_migrations") == [(len(migrations),)],
+      "each migration applied once")
 for w in workers:
     check(w.poll() is None, "the workers survived the server's crash")
     check(stop(w) == 0, "worker exits 0")

@@ -45,7 +45,7 @@ export const api = {
   sweeps: (limit = 200) => request('GET', `/sweeps?limit=${limit}`),
   sweep: (id) => request('GET', `/sweeps/${id}`),
   createSweep: (body) => request('POST', '/sweeps', body),
-  cancelSweep: (id) => request('POST', `/sweeps/${id}/cancel`),
+  cancelSweep: (id) => request('POST', `/sweeps/${id}/cancel`, {}),
   job: (id) => request('GET', `/jobs/${id}`),
   jobs: (query) => request('GET', `/jobs?${new URLSearchParams(query)}`),
   artifacts: (id) => request('GET', `/jobs/${id}/artifacts`),

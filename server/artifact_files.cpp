@@ -1,0 +1,103 @@
+#include "artifact_files.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "job_store.hpp"
+
+namespace compaction::server {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void io_error(const std::string& what, const fs::path& p) {
+  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
+}
+
+void write_synced(const fs::path& p, const std::string& data) {
+  const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) io_error("cannot create", p);
+  std::size_t done = 0;
+  while (done < data.size()) {
+    const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      ::close(fd);
+      io_error("cannot write", p);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    ::close(fd);
+    io_error("cannot flush", p);
+  }
+  ::close(fd);
+}
+
+void sync_folder(const fs::path& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) io_error("cannot open", p);
+  const int r = ::fsync(fd);
+  ::close(fd);
+  if (r != 0) io_error("cannot flush", p);
+}
+
+}  // namespace
+
+ArtifactFiles::ArtifactFiles(fs::path root) : root_(std::move(root)) {
+  fs::create_directories(root_);
+}
+
+std::vector<std::string> ArtifactFiles::write(const std::string& folder,
+                                              const std::vector<Artifact>& artifacts) {
+  const fs::path dir = root_ / folder;
+  std::vector<std::string> paths;
+  try {
+    fs::create_directories(dir);
+    for (const Artifact& a : artifacts) {
+      write_synced(dir / a.name, a.data);
+      paths.push_back(folder + "/" + a.name);
+    }
+    sync_folder(dir);
+    sync_folder(root_);
+  } catch (...) {
+    remove(folder);
+    throw;
+  }
+  return paths;
+}
+
+std::string ArtifactFiles::read(const std::string& relative_path) const {
+  const fs::path p = root_ / relative_path;
+  std::ifstream f(p, std::ios::binary);
+  if (!f) throw std::runtime_error("artifact file missing: " + p.string());
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+void ArtifactFiles::remove(const std::string& folder) noexcept {
+  std::error_code ec;
+  fs::remove_all(root_ / folder, ec);
+}
+
+int ArtifactFiles::remove_all_but(const std::set<std::string>& keep) noexcept {
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(root_, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (keep.count(name)) continue;
+    remove(name);
+    ++removed;
+  }
+  return removed;
+}
+
+}  // namespace compaction::server

@@ -1,0 +1,44 @@
+#include "endpoints.hpp"
+
+#include <regex>
+#include <utility>
+
+namespace compaction::server {
+
+namespace {
+
+const std::vector<std::pair<const Endpoint*, std::regex>>& table() {
+  using namespace endpoints;
+  static const auto t = [] {
+    std::vector<std::pair<const Endpoint*, std::regex>> out;
+    for (const Endpoint* e :
+         {&create_sweep, &list_sweeps, &show_sweep, &cancel_sweep, &export_sweep, &list_jobs,
+          &show_job, &list_artifacts, &artifact, &phase_map, &lease, &heartbeat, &complete,
+          &fail, &release, &health, &metrics, &api_metrics, &openapi, &presets}) {
+      out.emplace_back(e, std::regex(e->pattern));
+    }
+    return out;
+  }();
+  return t;
+}
+
+}  // namespace
+
+const Endpoint& find_endpoint(const std::string& method, const std::string& path) {
+  const std::string m = method == "HEAD" ? "GET" : method;
+  for (const auto& [e, re] : table()) {
+    if (m == e->method && std::regex_match(path, re)) return *e;
+  }
+  return other_request;
+}
+
+void add_route(httplib::Server& server, const Endpoint& e, Handler handler) {
+  const std::string method = e.method;
+  if (method == "GET") {
+    server.Get(e.pattern, guarded(std::move(handler)));
+  } else {
+    server.Post(e.pattern, guarded(std::move(handler)));
+  }
+}
+
+}  // namespace compaction::server
