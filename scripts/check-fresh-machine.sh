@@ -124,8 +124,8 @@ on_exit() {
   exit "$rc"
 }
 trap on_exit EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
+trap 'echo "fresh: FAILED: interrupted (SIGINT)" >&2; exit 130' INT
+trap 'echo "fresh: FAILED: stopped (SIGTERM)" >&2; exit 143' TERM
 
 # --- steps ---------------------------------------------------------------------------------------
 # step NAME LIMIT CMD...: runs CMD (output to $logs/NAME.log) for at most LIMIT seconds and at most
@@ -190,6 +190,7 @@ else
 fi
 if [ -z "$logs" ]; then logs="$(mktemp -d /tmp/compaction-fresh-logs.XXXXXX)"; fi
 mkdir -p "$logs" "$parent"
+parent="$(cd "$parent" && pwd -P)"   # absolute: processes in the root are found by their root path
 say "checking the README's two commands on a new Debian 12 root ($source_desc); logs in $logs"
 
 # Roots of earlier runs that were killed before their cleanup (their pid is gone).
