@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <memory>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -14,10 +15,17 @@
 #include "compaction/result.hpp"
 #include "job_runner.hpp"
 #include "options.hpp"
+#include "scratch.hpp"
 
 using namespace compaction::worker;
 
 namespace {
+
+// Exit codes a batch scheduler can read (also in --help).
+constexpr int exit_done = 0;         // stopped by signal, --max-jobs or --idle-exit
+constexpr int exit_error = 1;        // the work folder, a malformed answer
+constexpr int exit_refused = 2;      // bad flags, or the server refused the worker (token)
+constexpr int exit_unreachable = 3;  // the server never answered
 
 std::atomic<bool> stop_requested{false};
 
@@ -51,11 +59,18 @@ int main(int argc, char** argv) {
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ worker " + options->name + ": %v");
   install_signal_handlers();
 
-  std::error_code ec;
-  std::filesystem::create_directories(options->work_dir, ec);
-  if (ec) {
-    spdlog::error("cannot create the work folder {}: {}", options->work_dir, ec.message());
-    return 1;
+  std::unique_ptr<ScratchFolder> scratch;
+  try {
+    scratch = std::make_unique<ScratchFolder>(options->work_dir);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return exit_error;
+  }
+  if (const int n = scratch->remove_leftovers(); n > 0) {
+    spdlog::info("removed {} job folder(s) left in {} by an earlier worker", n, options->work_dir);
+  }
+  if (const int n = scratch->remove_dead_siblings(); n > 0) {
+    spdlog::info("removed {} work folder(s) of workers that are gone", n);
   }
   ApiClient client(options->server, options->token);
   JobRunner runner(*options, client, stop_requested);
@@ -65,12 +80,14 @@ int main(int argc, char** argv) {
   int jobs = 0;
   auto last_work = std::chrono::steady_clock::now();
   bool warned_unreachable = false;
+  bool reached = false;  // the server answered at least once
   while (!stop_requested) {
     if (options->max_jobs > 0 && jobs >= options->max_jobs) {
       spdlog::info("done: {} job(s), the --max-jobs limit", jobs);
       break;
     }
     const Reply r = client.lease(options->name, compaction::engine_version());
+    if (r.outcome != Outcome::unreachable) reached = true;
     if (r.outcome == Outcome::ok) {
       warned_unreachable = false;
       LeasedJob job;
@@ -82,8 +99,9 @@ int main(int argc, char** argv) {
         job.attempt = r.body.at("attempt").get<int>();
         job.max_attempts = r.body.at("max_attempts").get<int>();
       } catch (const std::exception& e) {
-        spdlog::error("malformed lease answer ({}): {}", e.what(), r.body.dump());
-        return 1;
+        spdlog::error("malformed lease answer ({}): {}", e.what(),
+                      r.body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).substr(0, 500));
+        return exit_error;
       }
       ++jobs;
       const JobEnd end = runner.run(job);
@@ -94,7 +112,7 @@ int main(int argc, char** argv) {
     if (r.outcome == Outcome::rejected || r.outcome == Outcome::not_found) {
       // A wrong token or a server that is not compaction-server: waiting will not help.
       spdlog::error("the server refused the lease request (HTTP {}): {}", r.status, r.message);
-      return 2;
+      return exit_refused;
     }
     if (r.outcome == Outcome::unreachable && !warned_unreachable) {
       spdlog::warn("server unreachable ({}); retrying every {} s", r.message, options->poll_interval);
@@ -109,6 +127,10 @@ int main(int argc, char** argv) {
     nap(options->poll_interval);
   }
   if (stop_requested) spdlog::info("stopped by signal after {} job(s)", jobs);
-  if (!options->keep_work) std::filesystem::remove(options->work_dir, ec);  // only if empty
-  return 0;
+  if (!options->keep_work) scratch->remove_if_empty();
+  if (!reached) {
+    spdlog::error("the server at {} never answered", options->server);
+    return exit_unreachable;
+  }
+  return exit_done;
 }

@@ -1,6 +1,7 @@
 #include "options.hpp"
 
 #include "compaction/text_numbers.hpp"
+#include "scratch.hpp"
 
 #include <unistd.h>
 
@@ -26,7 +27,8 @@ usage: compaction-worker [options]
   --max-jobs N            exit after N jobs (default 0: no limit)
   --idle-exit SECONDS     exit after SECONDS without a job (default 0: never)
   --runner PATH           the runner (default: compaction-run next to this executable)
-  --work-dir DIR          scratch folder for the runs (default: $TMPDIR/compaction-worker-PID)
+  --work-dir DIR          scratch folder for the runs, one per worker
+                          (default: $TMPDIR/compaction-worker-PID)
   --name NAME             worker name shown by the server (default: host:pid)
   --poll-interval S       wait between lease attempts when the queue is empty (default 2)
   --keep-work             keep each job's folder (scene.json, bundle, stderr.log)
@@ -34,6 +36,10 @@ usage: compaction-worker [options]
   --help                  this text
 
 SIGTERM or SIGINT: the run is stopped, the lease released (the job requeues at once), exit 0.
+Exit codes: 0 done (signal, --max-jobs, --idle-exit), 1 error (work folder, malformed answer),
+2 bad flags or the server refused the worker (token), 3 the server never answered.
+The work folder is locked while the worker runs; at start the worker clears its leftovers and
+removes the default-named folders ($TMPDIR/compaction-worker-PID) of workers that are gone.
 )";
 
 using compaction::parse_int;
@@ -115,7 +121,7 @@ std::optional<WorkerOptions> parse_worker_options(int argc, char** argv, int& ex
   }
   if (o.work_dir.empty()) {
     o.work_dir = (std::filesystem::temp_directory_path() /
-                  ("compaction-worker-" + std::to_string(getpid())))
+                  (std::string(default_scratch_prefix) + std::to_string(getpid())))
                      .string();
   }
   if (o.name.empty()) {
