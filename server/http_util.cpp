@@ -8,6 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "compaction/text_numbers.hpp"
 #include "json_input.hpp"
 #include "safe_text.hpp"
 
@@ -114,9 +115,8 @@ std::optional<std::int64_t> query_id(const httplib::Request& req, const char* na
 std::optional<double> query_number(const httplib::Request& req, const char* name) {
   if (!req.has_param(name)) return std::nullopt;
   const std::string s = req.get_param_value(name);
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
+  double v = 0;
+  if (!compaction::parse_finite_real(s, v)) {  // decimal only: no hex, no "nan", no "inf"
     throw ApiError(422, name, "must be a finite number, got " + describe(json(valid_utf8(s))));
   }
   return v;
@@ -132,7 +132,7 @@ std::string body_string(const json& body, const char* key, std::size_t max_len, 
   if (s.empty() || s.size() > max_len) {
     throw ApiError(422, key, "must be 1 to " + std::to_string(max_len) + " bytes");
   }
-  if (has_control_characters(s, text == TextKind::free_text)) {
+  if (text == TextKind::name && has_control_characters(s)) {
     throw ApiError(422, key, "must not hold control characters");
   }
   return s;

@@ -40,8 +40,9 @@ int query_int(const httplib::Request& req, const char* name, int fallback, int l
 std::optional<std::int64_t> query_id(const httplib::Request& req, const char* name);
 std::optional<double> query_number(const httplib::Request& req, const char* name);
 
-// Required string fields of a JSON object body (422 naming the field): 1 to max_len bytes,
-// no control characters (free text may hold newlines and tabs).
+// Required string fields of a JSON object body (422 naming the field): 1 to max_len bytes;
+// a name holds no control characters, free text (a failure reason) is kept as it came (the
+// log escapes it, JSON answers escape it).
 enum class TextKind { name, free_text };
 std::string body_string(const nlohmann::json& body, const char* key, std::size_t max_len,
                         TextKind text = TextKind::name);

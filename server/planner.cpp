@@ -221,7 +221,7 @@ std::string job_identity(const SceneParams& p, const std::string& engine_version
 }
 
 SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
-  if (!body.is_object()) invalid("", "the request body must be a JSON object", 400);
+  if (!body.is_object()) invalid("body", "must be a JSON object", 400);
   for (const auto& [key, value] : body.items()) {
     if (!request_keys.count(key)) invalid(key, "unknown key");
   }

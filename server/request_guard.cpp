@@ -77,6 +77,10 @@ std::optional<ApiError> check_request(const httplib::Request& req, const GuardCo
   if (req.has_header("Transfer-Encoding")) {
     return ApiError(411, "Content-Length", "send the body with a Content-Length, not chunked");
   }
+  // cpp-httplib would read a write without a length until the client closes.
+  if (is_write(req.method) && !req.has_header("Content-Length")) {
+    return ApiError(411, "Content-Length", "a " + req.method + " needs a Content-Length (0 for no body)");
+  }
   const std::size_t limit = e.max_body_bytes == upload_body_bytes ? c.max_upload_bytes
                                                                   : e.max_body_bytes;
   if (req.has_header("Content-Length")) {

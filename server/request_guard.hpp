@@ -4,8 +4,8 @@
 //   Origin  a write (any method but GET, HEAD, OPTIONS) from a browser comes from this
 //           server's own origin: a foreign Origin or Sec-Fetch-Site: cross-site is 403;
 //   token   the endpoint's token, 401 when missing, 403 when wrong;
-//   length  a body needs Content-Length (411 for chunked bodies) within the endpoint's limit
-//           (413);
+//   length  a write needs Content-Length (411 without one, or for a chunked body) within the
+//           endpoint's limit (413);
 //   type    JSON endpoints take application/json, the result upload multipart/form-data (415).
 // A refused request is answered at once and its connection closed: the body is never read.
 #pragma once

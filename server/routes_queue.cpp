@@ -81,7 +81,10 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   std::vector<UploadedFile> files;
   for (const auto& [name, part] : req.files) {
     if (name == "lease_token" || name == "summary") continue;
-    if (name != "files") throw ApiError(422, valid_utf8(name.substr(0, 100)), "unknown form field");
+    if (name != "files") {
+      throw ApiError(422, "form[" + valid_utf8(name.substr(0, 100)) + "]",
+                     "unknown form field (expected lease_token, summary, files)");
+    }
     files.push_back({part.filename, part.content});
   }
   ResultRecord r = intake_result(req.get_file_value("summary").content, job->first,

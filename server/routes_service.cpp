@@ -5,6 +5,7 @@
 #include "app.hpp"
 #include "compaction/result.hpp"
 #include "endpoints.hpp"
+#include "http_server.hpp"
 #include "http_util.hpp"
 #include "metrics.hpp"
 #include "presets.hpp"
@@ -74,6 +75,11 @@ void register_all_routes(httplib::Server& server, App& app) {
   // of the request at fault.
   server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;
+    // What the library could not parse leaves the connection at an unknown place in the
+    // stream (an unread body, half a header): the answer is the last on it.
+    if (res.status == 400 || res.status == 413 || res.status == 414) {
+      HttpServer::close_after_response();
+    }
     try {
       std::string field = "path", message;
       switch (res.status) {

@@ -83,6 +83,14 @@ void register_sweep_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::cancel_sweep,
               [&app](const httplib::Request& req, httplib::Response& res) {
                 const std::int64_t id = path_id(req, 1, "sweep");
+                // The body is empty or {}: a cancel takes no arguments.
+                if (!req.body.empty()) {
+                  const json body = parse_json_body(req);
+                  if (!body.is_object()) throw ApiError(422, "body", "must be {} or empty");
+                  for (const auto& [key, value] : body.items()) {
+                    throw ApiError(422, valid_utf8(key.substr(0, 100)), "unknown key");
+                  }
+                }
                 const auto out = app.store.cancel_sweep(id, now_ms());
                 if (!out) throw ApiError(404, "id", "no such sweep");
                 spdlog::info("sweep cancelled id={} jobs_cancelled={}", id,

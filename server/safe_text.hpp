@@ -22,8 +22,8 @@ std::string log_escape(std::string_view s, std::size_t max_bytes = 200);
 // (strings cut to 40 bytes), containers by their kind and size ("an array of 3 values").
 std::string describe(const nlohmann::json& v);
 
-// Whether the text holds a control character (C0, DEL or C1). Names and identifiers refuse
-// them; free text (a failure reason) may keep newlines and tabs when allow_newlines is set.
+// Whether the text holds a control character (C0, DEL or C1) or invalid UTF-8; with
+// allow_newlines, newlines and tabs do not count.
 bool has_control_characters(std::string_view s, bool allow_newlines = false);
 
 }  // namespace compaction::server

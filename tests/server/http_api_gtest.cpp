@@ -6,9 +6,11 @@
 #include <thread>
 
 #include "app.hpp"
+#include "http_server.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
+#include "endpoints.hpp"
 #include "temp_dir.hpp"
 
 using namespace compaction::server;
@@ -23,7 +25,7 @@ struct ApiTest : ::testing::Test {
   TempDir dir;
   std::unique_ptr<JobStore> store;
   std::unique_ptr<App> app;
-  httplib::Server server;
+  HttpServer server;
   std::thread thread;
   std::unique_ptr<httplib::Client> client;
 
@@ -41,6 +43,8 @@ struct ApiTest : ::testing::Test {
     const int port = server.bind_to_any_port("127.0.0.1");
     ASSERT_GT(port, 0);
     thread = std::thread([this] { server.listen_after_bind(); });
+    // stop() before the listener runs would be lost and TearDown would wait forever.
+    while (!server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     client = std::make_unique<httplib::Client>("127.0.0.1", port);
     client->set_read_timeout(10, 0);
   }
@@ -122,6 +126,19 @@ TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
       {"release stale token", "POST", job + "/release", R"({"lease_token": "stale"})", worker, 409, "lease_token"},
       {"complete not multipart", "POST", job + "/complete", json{{"lease_token", tok}}.dump(), worker, 415, "Content-Type"},
       {"unknown path", "GET", "/api/v1/nothing", "", "", 404, "path"},
+      {"invalid UTF-8 in the path", "GET", "/%FF", "", "", 404, "path"},
+      {"invalid UTF-8 in an API path", "POST", "/api/v1/x%C3%28", "{}", "", 404, "path"},
+      {"invalid UTF-8 in a query", "GET", "/api/v1/phase-map?phi=%FF", "", "", 422, "phi"},
+      {"a hexadecimal query number", "GET", "/api/v1/jobs?phi=0x10", "", "", 422, "phi"},
+      {"NUL in a name", "POST", "/api/v1/sweeps", R"({"name": "a\u0000b", )" + pt + "}", submit, 422, "name"},
+      {"escape codes in a name", "POST", "/api/v1/sweeps", R"({"name": "\u001b[2Jx", )" + pt + "}", submit, 422, "name"},
+      {"newline in a worker name", "POST", "/api/v1/leases", R"({"worker": "w\nforged", "engine_version": "x"})", worker, 422, "worker"},
+      {"70 000 levels of nesting", "POST", "/api/v1/sweeps", "{\"name\": " + std::string(70000, '[') + std::string(70000, ']') + ", \"points\": []}", submit, 400, "body"},
+      {"deep numerics", "POST", "/api/v1/sweeps", "{\"name\": \"x\", \"numerics\": " + std::string(100, '[') + std::string(100, ']') + "}", submit, 400, "body"},
+      {"deep heartbeat eps", "POST", job + "/heartbeat", "{\"lease_token\": \"x\", \"eps\": " + std::string(100, '[') + std::string(100, ']') + "}", worker, 400, "body"},
+      {"a cancel with arguments", "POST", "/api/v1/sweeps/1/cancel", R"({"now": true})", submit, 422, "now"},
+      {"the solid column", "POST", "/api/v1/sweeps", R"({"name": "x", "points": [{"S": 0.05, "R": 0.001, "phi": 1.0}]})", submit, 422, "points[0].phi"},
+      {"more snapshots than an upload can take", "POST", "/api/v1/sweeps", R"({"name": "x", )" + pt + R"(, "numerics": {"snapshot_eps": [)" + [] { std::string v; for (int i = 0; i < 100; ++i) v += (i ? ", " : "") + std::to_string(0.005 * (i + 1)); return v; }() + "], \"cells_per_unit\": 40}}", submit, 422, "numerics.snapshot_eps"},
   };
   const std::string before = store->fingerprint();
   for (const BadCase& c : cases) {
@@ -186,6 +203,69 @@ TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
   EXPECT_NE(csv->body.find(",c,0.7,b,"), std::string::npos) << csv->body;
   const auto metrics = client->Get("/metrics")->body;
   EXPECT_NE(metrics.find("compaction_jobs{state=\"succeeded\"} 1"), std::string::npos) << metrics;
+}
+
+TEST_F(ApiTest, RefusesFromTheHeadersAForeignOriginAWrongContentTypeAndAnOversizedBody) {
+  const std::string body = R"({"name": "x", "points": [{"S": 0.05, "R": 0.001, "phi": 0.4}]})";
+  const std::string before = store->fingerprint();
+  auto foreign = client->Post("/api/v1/sweeps",
+                              {{"Authorization", "Bearer " + submit}, {"Origin", "http://evil.example"}},
+                              body, "application/json");
+  EXPECT_EQ(foreign->status, 403);
+  EXPECT_EQ(json::parse(foreign->body)["error"]["field"], "Origin");
+  auto text = client->Post("/api/v1/sweeps", auth(submit), body, "text/plain");
+  EXPECT_EQ(text->status, 415);
+  EXPECT_EQ(json::parse(text->body)["error"]["field"], "Content-Type");
+  auto big = client->Post("/api/v1/sweeps", auth(submit), std::string(2 << 20, ' '), "application/json");
+  ASSERT_TRUE(big);
+  EXPECT_EQ(big->status, 413);
+  EXPECT_EQ(json::parse(big->body)["error"]["field"], "body");
+  EXPECT_EQ(store->fingerprint(), before);
+  // The server answers the next request on a new connection as usual.
+  EXPECT_EQ(client->Get("/api/v1/health")->status, 200);
+}
+
+TEST_F(ApiTest, AnUploadWithABadFileOrFieldNameNamesItAndStoresNothing) {
+  create_sweep();
+  const json l = lease();
+  const std::string path = "/api/v1/jobs/" + std::to_string(l["job_id"].get<int>()) + "/complete";
+  const std::string before = store->fingerprint();
+  compaction::SceneParams p;
+  ASSERT_TRUE(compaction::from_json(l["scene"], p).empty());
+  const json summary = compaction::summary_json(p, compaction::RunResult{});
+  httplib::MultipartFormDataItems items = {{"lease_token", l["lease_token"], "", "text/plain"},
+                                           {"summary", summary.dump(), "summary.json", "application/json"},
+                                           {"files", "x", "\xff\xfe.csv", "text/csv"}};
+  auto r = client->Post(path.c_str(), auth(worker), items);
+  EXPECT_EQ(r->status, 422) << r->body;
+  const json e = json::parse(r->body)["error"];
+  EXPECT_EQ(e["field"].get<std::string>().rfind("files[", 0), 0u) << r->body;
+  items[2].name = "fi\xff";
+  auto field = client->Post(path.c_str(), auth(worker), items);
+  EXPECT_EQ(field->status, 422) << field->body;
+  EXPECT_EQ(json::parse(field->body)["error"]["field"].get<std::string>().rfind("form[", 0), 0u);
+  EXPECT_EQ(store->fingerprint(), before);
+}
+
+TEST_F(ApiTest, AnInternalErrorSaysNothingButAnIdThatIsInTheLog) {
+  // A handler that fails the way a store call does, with SQL in the message.
+  httplib::Server bare;
+  add_route(bare, endpoints::health, [](const httplib::Request&, httplib::Response&) {
+    throw std::runtime_error("SQL logic error: CHECK constraint failed: length(name) BETWEEN 1 AND 200");
+  });
+  const int port = bare.bind_to_any_port("127.0.0.1");
+  std::thread t([&] { bare.listen_after_bind(); });
+  while (!bare.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  httplib::Client c("127.0.0.1", port);
+  auto r = c.Get("/api/v1/health");
+  bare.stop();
+  t.join();
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 500);
+  const json e = json::parse(r->body)["error"];
+  EXPECT_EQ(e["message"], "internal error");
+  EXPECT_FALSE(e["id"].get<std::string>().empty());
+  EXPECT_EQ(r->body.find("CHECK"), std::string::npos) << r->body;
 }
 
 TEST_F(ApiTest, AnEmptyQueueAnswers204) {

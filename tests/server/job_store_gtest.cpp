@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "compaction/result.hpp"
 #include "migrations.hpp"
 #include "planner.hpp"
@@ -268,4 +270,78 @@ TEST(StoreSchema, TheSchemaRefusesUnknownStatesAndLeaselessRunningJobs) {
                           " VALUES (1, 'cancelled', '{}', 'v', 'r', '{}', 'w', 0)")
                    .run(),
                sqlite::Error);
+}
+
+TEST_F(StoreTest, TheEventLogOfAJobLeasedAndReleasedForeverStaysBoundedAndCountsWhatItDropped) {
+  store.create_sweep(plan(points({0.01})), t0);
+  std::int64_t id = 0;
+  for (int i = 0; i < 300; ++i) {
+    const auto l = store.lease("w", "test-1", t0 + i);
+    ASSERT_TRUE(l);
+    id = l->job_id;
+    ASSERT_EQ(store.release(id, l->token, t0 + i), LeaseCheck::ok);
+  }
+  const json j = *store.job(id);
+  EXPECT_EQ(j["events"].size(), static_cast<std::size_t>(max_events_per_job));
+  // 600 events in all (a lease and a release per cycle); the newest is the last release.
+  EXPECT_EQ(j["events_dropped"].get<int>() + static_cast<int>(j["events"].size()), 600);
+  EXPECT_EQ(j["events"].back()["kind"], "released");
+  // The totals behind the metrics' counters count every event, dropped or not.
+  const StoreMetrics m = store.metrics();
+  std::int64_t leased = 0, released = 0;
+  for (const auto& [kind, n] : m.events_by_kind) {
+    if (kind == "leased") leased = n;
+    if (kind == "released") released = n;
+  }
+  EXPECT_EQ(leased, 300);
+  EXPECT_EQ(released, 300);
+}
+
+TEST_F(StoreTest, ArtifactsAreFilesBesideTheDatabaseAndAnUploadThatLostItsLeaseLeavesNone) {
+  store.create_sweep(plan(points({0.01, 0.02})), t0);
+  const auto a = store.lease("w", "test-1", t0);
+  ResultRecord r = result_for(store, a->job_id);
+  r.artifacts.push_back({"spacetime.npy", "application/octet-stream", std::string(100000, '\x7f')});
+  ASSERT_EQ(store.complete(a->job_id, a->token, r, t0 + 1), LeaseCheck::ok);
+  const auto npy = store.artifact(a->job_id, "spacetime.npy");
+  ASSERT_TRUE(npy);
+  EXPECT_EQ(npy->data, std::string(100000, '\x7f'));
+  const std::filesystem::path root = dir.file("jobs.db.artifacts");
+  ASSERT_EQ(std::distance(std::filesystem::directory_iterator(root), {}), 1);
+
+  // A stale token: the files are written first, then removed when the transaction refuses.
+  const auto b = store.lease("w", "test-1", t0 + 2);
+  ResultRecord stale = result_for(store, b->job_id);
+  EXPECT_EQ(store.complete(b->job_id, "stale", stale, t0 + 3), LeaseCheck::lost);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(root), {}), 1);
+}
+
+TEST(StoreStart, RemovesTheFilesOfAnUploadThatNeverCommittedAndKeepsTheOthers) {
+  TempDir dir;
+  std::int64_t job = 0;
+  {
+    JobStore store(dir.file("jobs.db"), config());
+    store.create_sweep(plan(points({0.01})), t0);
+    const auto l = store.lease("w", "test-1", t0);
+    job = l->job_id;
+    ASSERT_EQ(store.complete(job, l->token, result_for(store, job), t0 + 1), LeaseCheck::ok);
+  }
+  // What a crash between writing the files and the commit leaves.
+  const std::filesystem::path orphan = dir.path / "jobs.db.artifacts" / "job-9-deadbeef";
+  std::filesystem::create_directories(orphan);
+  std::ofstream(orphan / "frames.csv") << "eps\n";
+  JobStore store(dir.file("jobs.db"), config());
+  EXPECT_FALSE(std::filesystem::exists(orphan));
+  EXPECT_EQ(store.artifact(job, "frames.csv")->data, "eps\n0.01\n");
+}
+
+TEST_F(StoreTest, ReadsSeeTheCommittedStateWhileAnotherConnectionHoldsTheWriteLock) {
+  store.create_sweep(plan(points({0.01})), t0);
+  sqlite::Database other(dir.file("jobs.db"));
+  sqlite::Transaction holding(other);
+  other.prepare("UPDATE jobs SET priority = 5").run();
+  EXPECT_EQ(store.list_jobs({})["jobs"][0]["priority"], 0);
+  EXPECT_EQ(store.phase_map(0.4, std::nullopt)["points"].size(), 1u);
+  ASSERT_TRUE(store.sweep(1));
+  EXPECT_EQ((*store.sweep(1))["counts"]["queued"], 1);
 }
