@@ -21,19 +21,14 @@
 #include <cmath>
 #include <cstddef>
 
+#include "matrix.hpp"
+
 namespace compaction {
 
 struct Material {
   double lambda;   // first Lame parameter                     [N/m]
   double mu;       // shear modulus                             [N/m]
   double d_yield;  // principal strain difference at yield, q_y / (sqrt(3) mu) [-]
-};
-
-struct Mat2 {
-  double xx, xy, yx, yy;
-};
-struct Sym2 {
-  double xx, xy, yy;
 };
 
 // atanh(z) by its series z + z^3/3 + ... + z^11/11, for |z| < 2^-5 (the first omitted term is

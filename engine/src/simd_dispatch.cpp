@@ -3,7 +3,7 @@
 
 #include <atomic>
 
-#include "compaction/simulation.hpp"
+#include "compaction/simd_copy.hpp"
 
 namespace compaction {
 

@@ -6,6 +6,7 @@
 
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
+#include "compaction/simd_copy.hpp"  // which compiled copy of the hot loops a scene runs
 
 namespace compaction {
 
@@ -26,13 +27,5 @@ struct RunControl {
 // Runs the scene. Parameters must be valid (validate(p) empty), else std::invalid_argument.
 // Never throws for numerical trouble: an unstable run returns status "unstable" with a reason.
 RunResult run_scene(const SceneParams& p, const RunControl& control = {});
-
-// The hot loops are compiled twice, for the x86-64 baseline and for AVX2, with the same result
-// bits; the AVX2 copy runs where the processor has it. use_simd_copy(SimdCopy::baseline) makes
-// the scenes started afterwards in this process run the baseline copy (tests, benchmarks);
-// use_simd_copy(SimdCopy::avx2) returns to the default.
-enum class SimdCopy { baseline, avx2 };
-SimdCopy simd_copy();  // the copy that a scene started now runs
-void use_simd_copy(SimdCopy c);
 
 }  // namespace compaction
