@@ -103,77 +103,58 @@ template <bool kApic, bool kExact>
   }
 }
 
+// The gather into particles [begin, end), one block at a time (run_loop in simd_dispatch.hpp
+// makes its variants and copies; both copies run the same code).
 template <bool kApic, bool kExact>
-[[gnu::always_inline]] inline StepMeasure gather(Particles& P, const Setup& s, const Grid& g,
-                                                 std::size_t begin, std::size_t end, double dt) {
-  const GridView view{g.dx,
-                      g.inv_dx,
-                      kernel::kInverseInertia * g.inv_dx * g.inv_dx,
-                      static_cast<double>(g.gx),
-                      static_cast<double>(g.gy),
-                      g.nx,
-                      g.periodic_x ? s.width : 0.0,
-                      g.periodic_x ? s.width : std::numeric_limits<double>::infinity(),
-                      s.flip_ratio};
-  StepMeasure m;
-  m.y_min = m.x_min = std::numeric_limits<double>::infinity();
-  m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
-  ReturnMapBlock blk;  // the block's trial Fe in; Fe, tau and the plastic increment out
-  GatherBlock gb;      // positions and squared speeds, for the step's measures
-  for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
-    const std::size_t nb = std::min(kBlock, end - b0);
-    transfer_block<kApic, kExact>(nb, dt, view, g.col.data(), g.arrays.nodes.data(),
-                                  g.arrays.mx.data(), g.arrays.my.data(), P.x.data() + b0,
-                                  P.y.data() + b0, P.vx.data() + b0, P.vy.data() + b0,
-                                  P.C.data() + b0, P.Fe.data() + b0, &gb, &blk);
-    return_map_block<false>(blk, nb, s.material);
-    if (any_redo(blk, nb)) return_map_block<true>(blk, nb, s.material);
-    for (std::size_t i = 0; i < nb; ++i) {
-      const std::size_t p = b0 + i;
-      Mat2& f = P.Fe[p];
-      double plastic;
-      if (blk.redo[i] != 0.0) [[unlikely]] {  // outside the series' range: the exact update
-        f = Mat2{blk.fxx[i], blk.fxy[i], blk.fyx[i], blk.fyy[i]};
-        plastic = return_map(f, s.material, P.tau[p]);
-        if (std::isnan(plastic)) m.bad_jacobian = true;
-      } else {
-        f = Mat2{blk.exx[i], blk.exy[i], blk.eyx[i], blk.eyy[i]};
-        P.tau[p] = Sym2{blk.txx[i], blk.txy[i], blk.tyy[i]};
-        plastic = blk.plastic[i];
+struct Gather {
+  template <bool kAvx2>
+  [[gnu::always_inline]] static StepMeasure run(Particles& P, const Setup& s, const Grid& g,
+                                                std::size_t begin, std::size_t end, double dt) {
+    const GridView view{g.dx,
+                        g.inv_dx,
+                        kernel::kInverseInertia * g.inv_dx * g.inv_dx,
+                        static_cast<double>(g.gx),
+                        static_cast<double>(g.gy),
+                        g.nx,
+                        g.periodic_x ? s.width : 0.0,
+                        g.periodic_x ? s.width : std::numeric_limits<double>::infinity(),
+                        s.flip_ratio};
+    StepMeasure m;
+    m.y_min = m.x_min = std::numeric_limits<double>::infinity();
+    m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+    ReturnMapBlock blk;  // the block's trial Fe in; Fe, tau and the plastic increment out
+    GatherBlock gb;      // positions and squared speeds, for the step's measures
+    for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
+      const std::size_t nb = std::min(kBlock, end - b0);
+      transfer_block<kApic, kExact>(nb, dt, view, g.col.data(), g.arrays.nodes.data(),
+                                    g.arrays.mx.data(), g.arrays.my.data(), P.x.data() + b0,
+                                    P.y.data() + b0, P.vx.data() + b0, P.vy.data() + b0,
+                                    P.C.data() + b0, P.Fe.data() + b0, &gb, &blk);
+      return_map_block<false>(blk, nb, s.material);
+      if (any_redo(blk, nb)) return_map_block<true>(blk, nb, s.material);
+      for (std::size_t i = 0; i < nb; ++i) {
+        const std::size_t p = b0 + i;
+        Mat2& f = P.Fe[p];
+        double plastic;
+        if (blk.redo[i] != 0.0) [[unlikely]] {  // outside the series' range: the exact update
+          f = Mat2{blk.fxx[i], blk.fxy[i], blk.fyx[i], blk.fyy[i]};
+          plastic = return_map(f, s.material, P.tau[p]);
+          if (std::isnan(plastic)) m.bad_jacobian = true;
+        } else {
+          f = Mat2{blk.exx[i], blk.exy[i], blk.eyx[i], blk.eyy[i]};
+          P.tau[p] = Sym2{blk.txx[i], blk.txy[i], blk.tyy[i]};
+          plastic = blk.plastic[i];
+        }
+        P.dep[p] += plastic;  // ep, the running total, is updated once per frame
+        const double v2 = gb.v2[i];
+        m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks
+        m.y_min = std::min(m.y_min, gb.y[i]), m.y_max = std::max(m.y_max, gb.y[i]);
+        m.x_min = std::min(m.x_min, gb.x[i]), m.x_max = std::max(m.x_max, gb.x[i]);
       }
-      P.dep[p] += plastic;  // ep, the running total, is updated once per frame
-      const double v2 = gb.v2[i];
-      m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks
-      m.y_min = std::min(m.y_min, gb.y[i]), m.y_max = std::max(m.y_max, gb.y[i]);
-      m.x_min = std::min(m.x_min, gb.x[i]), m.x_max = std::max(m.x_max, gb.x[i]);
     }
+    return m;
   }
-  return m;
-}
-
-// The two compiled copies of the gather (simd_dispatch.hpp), with the same bits.
-template <bool kApic, bool kExact>
-StepMeasure gather_baseline(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
-                            std::size_t end, double dt) {
-  return gather<kApic, kExact>(P, s, g, begin, end, dt);
-}
-
-#if COMPACTION_HAS_AVX2_COPY
-template <bool kApic, bool kExact>
-COMPACTION_AVX2 StepMeasure gather_avx2(Particles& P, const Setup& s, const Grid& g,
-                                        std::size_t begin, std::size_t end, double dt) {
-  return gather<kApic, kExact>(P, s, g, begin, end, dt);
-}
-#endif
-
-template <bool kApic, bool kExact>
-StepMeasure gather_any(Particles& P, const Setup& s, const Grid& g, std::size_t begin,
-                       std::size_t end, double dt) {
-#if COMPACTION_HAS_AVX2_COPY
-  if (run_avx2_copy()) return gather_avx2<kApic, kExact>(P, s, g, begin, end, dt);
-#endif
-  return gather_baseline<kApic, kExact>(P, s, g, begin, end, dt);
-}
+};
 
 StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
   StepMeasure m;
@@ -190,21 +171,14 @@ StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
 void g2p(State& s, double dt, ThreadPool& pool) {
   std::vector<StepMeasure>& parts = s.partial_measures;  // sized once, one per thread
   const std::size_t n = s.particles.n;
-  const bool apic = s.setup.transfer == Transfer::apic;
-  const bool exact = s.setup.gradient == Gradient::bspline;
   pool.run([&](int t) {
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    Particles& P = s.particles;
-    const Grid& g = s.grid;
-    if (apic && !exact) parts[t] = gather_any<true, false>(P, s.setup, g, b, e, dt);
-    else if (apic) parts[t] = gather_any<true, true>(P, s.setup, g, b, e, dt);
-    else if (!exact) parts[t] = gather_any<false, false>(P, s.setup, g, b, e, dt);
-    else parts[t] = gather_any<false, true>(P, s.setup, g, b, e, dt);
+    parts[t] = run_loop<Gather>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, s.grid,
+                                b, e, dt);
   });
   StepMeasure m = parts[0];
   for (std::size_t t = 1; t < parts.size(); ++t) m = combine(m, parts[t]);
   s.measure = m;
 }
-
 
 }  // namespace compaction

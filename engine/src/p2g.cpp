@@ -31,7 +31,7 @@ void clear_rows(const Grid& g, NodeArrays& a, bool flip) {
 
 // The four doubles of a Node, {m, m vx, m vy, 0}, as one vector (GCC vector extension): one
 // AVX2 operation. The baseline copy adds the lanes one by one instead: SSE2 would split the
-// vector through the stack (P2G 15 -> 91 ns per particle-step).
+// vector through the stack, which makes the scatter several times slower.
 using Lanes = double __attribute__((vector_size(32)));
 static_assert(sizeof(Lanes) == sizeof(Node));
 
@@ -93,84 +93,62 @@ template <bool kApic, bool kExact>
   }
 }
 
-// kWide: node updates as Lanes (only in code compiled for AVX2).
-template <bool kApic, bool kExact, bool kWide>
-[[gnu::always_inline]] inline void scatter(const Particles& P, const Setup& s, const Grid& g,
-                                           NodeArrays& out, std::size_t begin, std::size_t end,
-                                           double dt) {
-  const std::ptrdiff_t nx = g.nx;
-  const int* col = g.col.data();
-  Node* nodes = out.nodes.data();
-  ScatterBlock sb;
-  for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
-    const std::size_t nb = std::min(kScatterBlock, end - b0);
-    prepare_block<kApic, kExact>(nb, dt, s, g, P.mass, P.x.data() + b0, P.y.data() + b0,
-                                 P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
-                                 P.tau.data() + b0, &sb);
-    for (std::size_t k = 0; k < nb; ++k) {
-      const std::ptrdiff_t cs[3] = {col[sb.col0[k]], col[sb.col0[k] + 1], col[sb.col0[k] + 2]};
+// The scatter of particles [begin, end) into `out`, one block at a time (run_loop in
+// simd_dispatch.hpp makes its variants and copies). The AVX2 copy updates a node as Lanes.
+template <bool kApic, bool kExact>
+struct Scatter {
+  template <bool kAvx2>
+  [[gnu::always_inline]] static void run(const Particles& P, const Setup& s, const Grid& g,
+                                         NodeArrays& out, std::size_t begin, std::size_t end,
+                                         double dt) {
+    const std::ptrdiff_t nx = g.nx;
+    const int* col = g.col.data();
+    Node* nodes = out.nodes.data();
+    ScatterBlock sb;
+    for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
+      const std::size_t nb = std::min(kScatterBlock, end - b0);
+      prepare_block<kApic, kExact>(nb, dt, s, g, P.mass, P.x.data() + b0, P.y.data() + b0,
+                                   P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
+                                   P.tau.data() + b0, &sb);
+      for (std::size_t k = 0; k < nb; ++k) {
+        const std::ptrdiff_t cs[3] = {col[sb.col0[k]], col[sb.col0[k] + 1], col[sb.col0[k] + 2]};
 #pragma GCC unroll 3
-      for (int b = 0; b < 3; ++b) {
-        const std::ptrdiff_t row = sb.row0[k] + b * nx;
-        // The zero lanes add exact zeros, so the wide update rounds each lane as the scalar
-        // one does.
-        const double lo[4] = {sb.wm[b][k], sb.qx[b][k], sb.qy[b][k], 0.0};
-        const double hi[4] = {0.0, sb.qxx[b][k], sb.qyx[b][k], 0.0};
+        for (int b = 0; b < 3; ++b) {
+          const std::ptrdiff_t row = sb.row0[k] + b * nx;
+          // The zero lanes add exact zeros, so the wide update rounds each lane as the scalar
+          // one does.
+          const double lo[4] = {sb.wm[b][k], sb.qx[b][k], sb.qy[b][k], 0.0};
+          const double hi[4] = {0.0, sb.qxx[b][k], sb.qyx[b][k], 0.0};
 #pragma GCC unroll 3
-        for (int a = 0; a < 3; ++a) {
-          const std::ptrdiff_t i = row + cs[a];
-          const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
-          if constexpr (kWide) {
-            Lanes n;
-            std::memcpy(&n, &nodes[i], sizeof n);
-            n += wa * Lanes{lo[0], lo[1], lo[2], lo[3]} + wd * Lanes{hi[0], hi[1], hi[2], hi[3]};
-            std::memcpy(&nodes[i], &n, sizeof n);
-          } else {
-            Node& n = nodes[i];
-            n.m += wa * lo[0];
-            n.vx += wa * lo[1] + wd * hi[1];
-            n.vy += wa * lo[2] + wd * hi[2];
-          }
-          if constexpr (kExact) {  // -dt V0 tau grad w, grad w = (dw_a w_b, w_a dw_b) / dx
-            const double gx = sb.dwx[a][k] * sb.wy[b][k], gy = wa * sb.dwy[b][k];
-            nodes[i].vx += sb.sxx[k] * gx + sb.sxy[k] * gy;
-            nodes[i].vy += sb.sxy[k] * gx + sb.syy[k] * gy;
-          }
-          if constexpr (!kApic) {
-            out.mx[i] += wa * sb.wy[b][k] * sb.mvx[k];
-            out.my[i] += wa * sb.wy[b][k] * sb.mvy[k];
+          for (int a = 0; a < 3; ++a) {
+            const std::ptrdiff_t i = row + cs[a];
+            const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
+            if constexpr (kAvx2) {
+              Lanes n;
+              std::memcpy(&n, &nodes[i], sizeof n);
+              n += wa * Lanes{lo[0], lo[1], lo[2], lo[3]} + wd * Lanes{hi[0], hi[1], hi[2], hi[3]};
+              std::memcpy(&nodes[i], &n, sizeof n);
+            } else {
+              Node& n = nodes[i];
+              n.m += wa * lo[0];
+              n.vx += wa * lo[1] + wd * hi[1];
+              n.vy += wa * lo[2] + wd * hi[2];
+            }
+            if constexpr (kExact) {  // -dt V0 tau grad w, grad w = (dw_a w_b, w_a dw_b) / dx
+              const double gx = sb.dwx[a][k] * sb.wy[b][k], gy = wa * sb.dwy[b][k];
+              nodes[i].vx += sb.sxx[k] * gx + sb.sxy[k] * gy;
+              nodes[i].vy += sb.sxy[k] * gx + sb.syy[k] * gy;
+            }
+            if constexpr (!kApic) {
+              out.mx[i] += wa * sb.wy[b][k] * sb.mvx[k];
+              out.my[i] += wa * sb.wy[b][k] * sb.mvy[k];
+            }
           }
         }
       }
     }
   }
-}
-
-// The two compiled copies of the scatter (simd_dispatch.hpp): the baseline one and, where the
-// build has one, the AVX2 one with wide node updates. Both give the same bits.
-template <bool kApic, bool kExact>
-void scatter_baseline(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
-                      std::size_t begin, std::size_t end, double dt) {
-  scatter<kApic, kExact, kCompiledForAvx2>(P, s, g, out, begin, end, dt);
-}
-
-#if COMPACTION_HAS_AVX2_COPY
-template <bool kApic, bool kExact>
-COMPACTION_AVX2 void scatter_avx2(const Particles& P, const Setup& s, const Grid& g,
-                                  NodeArrays& out, std::size_t begin, std::size_t end,
-                                  double dt) {
-  scatter<kApic, kExact, true>(P, s, g, out, begin, end, dt);
-}
-#endif
-
-template <bool kApic, bool kExact>
-void scatter_any(const Particles& P, const Setup& s, const Grid& g, NodeArrays& out,
-                 std::size_t begin, std::size_t end, double dt) {
-#if COMPACTION_HAS_AVX2_COPY
-  if (run_avx2_copy()) return scatter_avx2<kApic, kExact>(P, s, g, out, begin, end, dt);
-#endif
-  scatter_baseline<kApic, kExact>(P, s, g, out, begin, end, dt);
-}
+};
 
 }  // namespace
 
@@ -182,12 +160,7 @@ void p2g(State& s, double dt, ThreadPool& pool) {
     NodeArrays& out = t == 0 ? g.arrays : g.scratch[t - 1];
     clear_rows(g, out, !apic);
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    const bool exact = s.setup.gradient == Gradient::bspline;
-    const Particles& P = s.particles;
-    if (apic && !exact) scatter_any<true, false>(P, s.setup, g, out, b, e, dt);
-    else if (apic) scatter_any<true, true>(P, s.setup, g, out, b, e, dt);
-    else if (!exact) scatter_any<false, false>(P, s.setup, g, out, b, e, dt);
-    else scatter_any<false, true>(P, s.setup, g, out, b, e, dt);
+    run_loop<Scatter>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, g, out, b, e, dt);
   });
   if (pool.size() == 1) return;
   // Sum the threads' arrays into the grid, each thread a share of the rows, in a fixed order
