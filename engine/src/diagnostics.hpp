@@ -1,6 +1,5 @@
 // What a run records once per frame: plate stresses, the space-time map row, the row velocity
-// profile, energies, strut
-// deflections, and the particle snapshots that fall due.
+// profile, energies, strut deflections, and the particle snapshots that fall due.
 #pragma once
 
 #include <vector>
@@ -21,7 +20,21 @@ class FrameRecorder {
   void record(State& s, double eps_begin, double eps_end, RunResult& out);
 
  private:
-  const SceneParams& p_;
+  struct ParticleTotals {
+    double kinetic = 0.0;  // sum of |v|^2 (times m/2: the kinetic energy)
+    double max_v2 = 0.0;
+    std::size_t plastic = 0;  // particles that flowed in this frame
+  };
+  struct Deflections {
+    double max = 0.0, rms = 0.0;  // strut deflections / strut thickness
+  };
+
+  // Adds each particle's plastic increment into ep and into its row and strut sums.
+  ParticleTotals sum_particles(State& s);
+  Deflections strut_deflections(double strut_thickness) const;
+  void append_map_rows(RunResult& out, double d_eps, double V) const;
+  void take_snapshot_if_due(const Particles& P, double eps_end, double d_eps, RunResult& out);
+
   double x_lo_, x_hi_;  // particles outside [x_lo, x_hi) are left out of the map (wall zones)
   std::vector<double> row_sum_;
   std::vector<double> row_vy_;

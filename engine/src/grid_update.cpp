@@ -23,7 +23,7 @@ inline double constrain(double v, double plate, double push, PlateContact contac
 
 }  // namespace
 
-void grid_update(State& s, double /*dt*/) {
+void grid_update(State& s) {
   Grid& g = s.grid;
   const Setup& su = s.setup;
   const bool flip = su.transfer == Transfer::pic_flip;

@@ -14,7 +14,7 @@ struct Stencil1D {
   int base;     // first node of the 3-node stencil
   double fx;    // particle offset from that node, in cells, in [0.5, 1.5)
   double w[3];  // weights, sum to 1
-  double dw[3]; // derivatives dN/dx in units of 1/dx (for tests; the MLS force does not need them)
+  double dw[3]; // derivatives dN/dx in units of 1/dx (gradient = bspline; MLS does without)
 };
 
 // xg >= -0.5 always (ghost nodes and the stability checks keep particles there), so

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernel.hpp"
+
 namespace compaction {
 
 namespace {
@@ -23,17 +25,18 @@ void build_grid(const SceneParams& p, Grid& g) {
   g.dx = p.unit_cell() / p.cells_per_unit;
   g.inv_dx = 1.0 / g.dx;
   g.periodic_x = p.geometry == Geometry::pseudo1d;
-  const int cells_x = p.cols() * p.cells_per_unit, cells_y = p.n_rows * p.cells_per_unit;
+  g.cells_x = p.cols() * p.cells_per_unit;
+  g.cells_y = p.n_rows * p.cells_per_unit;
   // Ghost nodes: a particle at distance >= 0 from an edge reaches one node beyond it, and the
   // stability checks stop a run before any particle gets further than 1.4 cells out.
   g.gy = 2;
-  g.ny = cells_y + g.gy + 4;
+  g.ny = g.cells_y + g.gy + 4;
   if (g.periodic_x) {
     g.gx = 0;
-    g.nx = cells_x;
+    g.nx = g.cells_x;
   } else {
     g.gx = 2;
-    g.nx = cells_x + 2 * g.gx + 1;
+    g.nx = g.cells_x + 2 * g.gx + 1;
   }
   // Stencil columns base + k, base in [-1, nx - 1] (periodic) or [0, nx - 3]: wrapped once here
   // so that the transfer loops never compute a modulo.
@@ -50,14 +53,9 @@ void build_grid(const SceneParams& p, Grid& g) {
   g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
 }
 
-}  // namespace
-
-State build_scene(const SceneParams& p) {
-  State s;
-  build_grid(p, s.grid);
-  const Grid& g = s.grid;
-
-  Setup& su = s.setup;
+// The constants of the scene that the stages read (strut geometry: place_particles).
+Setup make_setup(const SceneParams& p) {
+  Setup su;
   su.material.lambda = p.lame_lambda();
   su.material.mu = p.lame_mu();
   su.material.d_yield = p.q_y / (std::sqrt(3.0) * su.material.mu);
@@ -70,7 +68,12 @@ State build_scene(const SceneParams& p) {
   su.gradient = p.gradient;
   su.contact = p.contact;
   su.side_walls = p.geometry == Geometry::full2d;
+  return su;
+}
 
+// The particles of the perforated specimen, at rest and unstrained; sets the strut count and
+// thickness of `su`.
+Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
   // The hole is a whole number of particle columns and rows: the count nearest to its side
   // L sqrt(1 - phi), so that the particles represent phi as closely as the lattice allows
   // (centring it on the cell instead would force an even count and could miss phi by 10 %).
@@ -85,7 +88,7 @@ State build_scene(const SceneParams& p) {
   su.n_struts = strut_cols * p.n_rows;
   su.strut_thickness = (per_unit - hole_n) * spacing;
 
-  Particles& P = s.particles;
+  Particles P;
   P.vol0 = spacing * spacing;
   P.mass = p.rho * P.vol0;
   SplitMix64 rng{p.seed};
@@ -129,17 +132,33 @@ State build_scene(const SceneParams& p) {
   P.tau.assign(P.n, Sym2{0, 0, 0});
   P.dep.assign(P.n, 0.0);
   P.ep.assign(P.n, 0.0);
-  su.scale = P.vol0 * 4.0 * g.inv_dx * g.inv_dx;  // V0 D^-1 of the MLS force
-  su.vol0 = P.vol0;
+  return P;
+}
 
-  s.partial_measures.resize(static_cast<std::size_t>(p.threads));
-  StepMeasure& m = s.measure;
+// The particles' extent, as a step would have measured it (the first step's rows read it).
+StepMeasure initial_measure(const Particles& P) {
+  StepMeasure m;
   m.y_min = m.x_min = 1e300;
   m.y_max = m.x_max = -1e300;
   for (std::size_t k = 0; k < P.n; ++k) {
     m.y_min = std::min(m.y_min, P.y[k]), m.y_max = std::max(m.y_max, P.y[k]);
     m.x_min = std::min(m.x_min, P.x[k]), m.x_max = std::max(m.x_max, P.x[k]);
   }
+  return m;
+}
+
+}  // namespace
+
+State build_scene(const SceneParams& p) {
+  State s;
+  build_grid(p, s.grid);
+  s.setup = make_setup(p);
+  s.particles = place_particles(p, s.grid, s.setup);
+  const Grid& g = s.grid;
+  s.setup.scale = s.particles.vol0 * kernel::kInverseInertia * g.inv_dx * g.inv_dx;  // V0 D^-1, MLS
+  s.setup.vol0 = s.particles.vol0;
+  s.partial_measures.resize(static_cast<std::size_t>(p.threads));
+  s.measure = initial_measure(s.particles);
   return s;
 }
 

@@ -15,9 +15,42 @@
 namespace compaction {
 
 namespace {
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// What the scene fixes of the result before the first step: counts, the grid, the maps' rows.
+RunResult start_result(const SceneParams& p, const State& s) {
+  RunResult r;
+  r.n_particles = static_cast<std::int64_t>(s.particles.n);
+  r.grid_nx = s.grid.nx;
+  r.grid_ny = s.grid.ny;
+  r.dx = s.grid.dx;
+  r.phi_discrete = s.particles.n * s.particles.vol0 / (p.width() * p.h0);
+  r.spacetime.n_rows = s.grid.cells_y;
+  r.spacetime.row_height = s.grid.dx;
+  r.velocity.n_rows = r.spacetime.n_rows;
+  r.velocity.row_height = s.grid.dx;
+  return r;
+}
+
+// A generous bound on the step count: a healthy run needs t_end / dt_cfl steps; one whose time
+// step collapses is stopped instead of running forever.
+double step_limit(const SceneParams& p, const State& s, double t_end) {
+  const double dt_cfl = p.cfl * s.grid.dx / (s.setup.c_p + s.setup.V);
+  return 20.0 * t_end / dt_cfl + 1000.0;
+}
+
+// Takes the last frame back (a frame with a non-finite number, which is never stored).
+void drop_last_frame(RunResult& r) {
+  r.frames.pop_back();
+  r.spacetime.values.resize(r.spacetime.values.size() - r.spacetime.n_rows);
+  --r.spacetime.n_frames;
+  r.velocity.values.resize(r.velocity.values.size() - r.velocity.n_rows);
+  --r.velocity.n_frames;
+}
+
 }  // namespace
 
 RunResult run_scene(const SceneParams& p, const RunControl& control) {
@@ -29,24 +62,12 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   ThreadPool pool(p.threads);
   FrameRecorder recorder(p, s);
 
-  RunResult r;
-  r.n_particles = static_cast<std::int64_t>(s.particles.n);
-  r.grid_nx = s.grid.nx;
-  r.grid_ny = s.grid.ny;
-  r.dx = s.grid.dx;
-  r.phi_discrete = s.particles.n * s.particles.vol0 / (p.width() * p.h0);
-  r.spacetime.n_rows = p.n_rows * p.cells_per_unit;
-  r.spacetime.row_height = s.grid.dx;
-  r.velocity.n_rows = r.spacetime.n_rows;
-  r.velocity.row_height = s.grid.dx;
+  RunResult r = start_result(p, s);
 
   const double V = s.setup.V, h0 = p.h0;
   const double eps_end = p.eps_final();
   const double t_end = eps_end * h0 / V;
-  // Generous bound on the step count: a healthy run needs t_end / dt_cfl steps; one whose
-  // time step collapses is stopped instead of running forever.
-  const double dt_cfl = p.cfl * s.grid.dx / (s.setup.c_p + V);
-  const double max_steps = 20.0 * t_end / dt_cfl + 1000.0;
+  const double max_steps = step_limit(p, s, t_end);
 
   auto stop = [&](RunStatus status, std::string reason) {
     r.status = status;
@@ -88,12 +109,7 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
     if (std::string why = check_frame(s, r.frames.back()); !why.empty()) {
       const Frame& f = r.frames.back();
       if (!std::isfinite(f.sigma_top + f.sigma_bottom + f.kinetic_energy)) {
-        // Never store a non-finite number: the last finite frame is the last one kept.
-        r.frames.pop_back();
-        r.spacetime.values.resize(r.spacetime.values.size() - r.spacetime.n_rows);
-        --r.spacetime.n_frames;
-        r.velocity.values.resize(r.velocity.values.size() - r.velocity.n_rows);
-        --r.velocity.n_frames;
+        drop_last_frame(r);  // the last finite frame is the last one kept
         r.eps_reached = eps_frame_begin;
       }
       stop(RunStatus::unstable, why);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "compaction/params.hpp"
+#include "matrix.hpp"
 #include "plasticity.hpp"
 
 namespace compaction {
@@ -49,6 +50,7 @@ struct Grid {
   NodeArrays arrays;                  // after the grid update: velocities, in place
   std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
   int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
+  int cells_x = 0, cells_y = 0;  // grid cells across and along the specimen (map rows: cells_y)
 };
 
 // Constants of the scene that the stages need.

@@ -15,8 +15,8 @@
 // The paper's c_b / V = 1 / (1 - phi) needs phi_f = 1 behind the front. Struts only a few cells
 // thick leave the pores partly open (phi_f < 1), so c_b / V is larger, by an excess that falls
 // with resolution (docs/engine.md, "Known limitation"): +23 % at 16 cells per unit cell (the
-// first test records it and checks the invariants), +3.4 % at 40 (the second test checks the
-// engine issue's 5 %).
+// first test records it and checks the invariants), +3.4 % at 40 (the second test checks that
+// it stays within 5 %).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -141,10 +141,9 @@ TEST(CompactionBandGtest, NonReflectingBandConservesMassAndClosesPoresWithoutOve
   EXPECT_NEAR(cb / predicted, 1.0, 0.15);
 }
 
-// The engine issue's check: at 40 cells per unit cell (struts 9-18 cells thick) the band runs
-// within 5 % of 1 / (1 - phi) = 1.667 (measured +3.4 %, 1.723; the excess falls roughly as
-// dx^1.8: +23 % at 16, +14 % at 20, +6.6 % at 30). 87 000 particles, 119 000 steps: about 5 min
-// on one core.
+// At 40 cells per unit cell (struts 9-18 cells thick) the band runs within 5 % of
+// 1 / (1 - phi) = 1.667 (the excess falls roughly as dx^1.8, docs/engine.md, "Known
+// limitation"). 87 000 particles, 119 000 steps: the slowest test of the engine.
 TEST(CompactionBandGtest, NonReflectingBandRunsAtThePapersSpeedWhenStrutsAreResolved) {
   const SceneParams p = band_scene(40);
   const RunResult r = run_scene(p);
