@@ -6,8 +6,6 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "cli_args.hpp"
@@ -36,32 +34,10 @@ void draw_bar(const compaction::Progress& p) {
   std::fflush(stderr);
 }
 
-// Adds the classifier's verdict to the bundle's summary.json ("classification"; null for a run
-// that is not ok: no label). The file is replaced by rename, so a reader never sees it half
-// written and the bundle stays complete only once summary.json exists.
-void add_classification(const std::string& dir, const compaction::SceneParams& p,
-                        const compaction::RunResult& r) {
-  namespace fs = std::filesystem;
-  const fs::path path = fs::path(dir) / "summary.json";
-  nlohmann::json summary;
-  {
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error("cannot read " + path.string());
-    in >> summary;
-  }
-  if (r.status == compaction::RunStatus::ok) {
-    summary["classification"] =
-        compaction::classify::summary_json_of(compaction::classify::classify(p, r));
-  } else {
-    summary["classification"] = nullptr;
-  }
-  const fs::path tmp = fs::path(dir) / "summary.json.tmp";
-  {
-    std::ofstream out(tmp);
-    out << summary.dump(2) << '\n';
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
+// The classifier's verdict for summary.json ("classification"): null for a run that is not ok.
+nlohmann::json classification_of(const compaction::SceneParams& p, const compaction::RunResult& r) {
+  if (r.status != compaction::RunStatus::ok) return nullptr;
+  return compaction::classify::summary_json_of(compaction::classify::classify(p, r));
 }
 
 }  // namespace
@@ -133,8 +109,7 @@ int main(int argc, char** argv) {
   try {
     const RunResult r = run_scene(p, control);
     if (mode == cli::ProgressMode::bar) std::fputc('\n', stderr);
-    write_bundle(opt.out_dir, p, r);
-    add_classification(opt.out_dir, p, r);
+    write_bundle(opt.out_dir, p, r, {{"classification", classification_of(p, r)}});
     log->info("done status={} steps={} particles={} wall={:.2f}s ns/particle-step={:.1f}{}{}",
               to_string(r.status), r.steps, r.n_particles, r.wall_seconds,
               r.ns_per_particle_step, r.reason.empty() ? "" : " reason=", r.reason);

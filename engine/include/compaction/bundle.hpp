@@ -31,8 +31,11 @@ inline constexpr std::size_t kMaxBundleFiles = kBundleFixedFiles + kFilesPerSnap
 // result it could not take.
 std::size_t bundle_size_bound(const SceneParams& p);
 
-// Writes the whole bundle into dir (created if needed). Throws std::runtime_error on I/O errors.
-void write_bundle(const std::filesystem::path& dir, const SceneParams& p, const RunResult& r);
+// Writes the whole bundle into dir (created if needed). summary.json goes last, by rename, so
+// that its presence marks a complete bundle; `summary_extras` are fields added to it (the
+// runner's classification). Throws std::runtime_error on I/O errors.
+void write_bundle(const std::filesystem::path& dir, const SceneParams& p, const RunResult& r,
+                  const nlohmann::json& summary_extras = nlohmann::json::object());
 
 // The summary.json of a run, without the big arrays.
 nlohmann::json summary_json(const SceneParams& p, const RunResult& r);

@@ -161,7 +161,8 @@ std::size_t bundle_size_bound(const SceneParams& p) {
   return static_cast<std::size_t>(bytes);
 }
 
-void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r) {
+void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r,
+                  const json& summary_extras) {
   fs::create_directories(dir);
   write_frames_csv(dir / "frames.csv", p, r);
   const SpaceTimeMap& m = r.spacetime;
@@ -182,10 +183,16 @@ void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r)
     npy::write(dir / (snapshot_name(s.eps) + ".npy"), table.data(), {n, 5});
     write_snapshot_png(dir / (snapshot_name(s.eps) + ".png"), p, r, s);
   }
-  // The summary goes last: its presence marks a complete bundle.
-  std::ofstream f(dir / "summary.json");
-  f << summary_json(p, r).dump(2) << '\n';
-  if (!f) throw std::runtime_error("error writing " + (dir / "summary.json").string());
+  // The summary goes last, whole or not at all: its presence marks a complete bundle.
+  json summary = summary_json(p, r);
+  summary.update(summary_extras);
+  const fs::path tmp = dir / "summary.json.tmp";
+  {
+    std::ofstream f(tmp);
+    f << summary.dump(2) << '\n';
+    if (!f) throw std::runtime_error("error writing " + tmp.string());
+  }
+  fs::rename(tmp, dir / "summary.json");
 }
 
 }  // namespace compaction
