@@ -14,6 +14,7 @@ namespace compaction::classify {
 namespace {
 
 using test::bump;
+using test::features_of;
 using test::make_run;
 
 std::vector<const Front*> propagating(const FrontTracks& t) {
@@ -99,15 +100,15 @@ TEST(FrontTracker, TwoCrossingFrontsKeepTheirIdentityThroughTheCrossing) {
   EXPECT_LT(top->path.back().centroid, 0.985 - c_top * 0.25 + 0.02);
   EXPECT_GT(bottom->path.back().centroid, 0.015 + c_bottom * 0.25 - 0.02);
 
-  const Features F = compute_features(run.params, run.result, t);
+  const Features F = features_of(run, t);
   EXPECT_TRUE(F.two_sided);
   EXPECT_EQ(F.n_fronts_onset, 2);
   EXPECT_EQ(decide(F).label, "c");
 }
 
 // Class (c)'s two bands emerge at the onset. Fronts that start from both plates only after the
-// first band has crossed the column (near densification; found at 30 cells per unit cell on the
-// Fig. 3 line, R = 1.4e-4) do not make a reflecting band two-sided.
+// first band has crossed the column (near densification, as in a reflecting band at 30 cells per
+// unit cell on the Fig. 3 line, R = 1.4e-4) do not make a reflecting band two-sided.
 TEST(FrontTracker, LateFrontsFromBothPlatesDoNotMakeABandTwoSided) {
   const double c = 2.5, c_late = 3.0, late = 0.45;
   const auto run = make_run(0.55, [&](double eps, double y) {
@@ -124,7 +125,7 @@ TEST(FrontTracker, LateFrontsFromBothPlatesDoNotMakeABandTwoSided) {
   }
   ASSERT_EQ(top, 2);     // the band and the late one
   ASSERT_EQ(bottom, 1);  // the late one
-  const Features F = compute_features(run.params, run.result, t);
+  const Features F = features_of(run, t);
   EXPECT_FALSE(F.two_sided);
   EXPECT_NE(decide(F).label, "c");
 }
@@ -136,7 +137,7 @@ TEST(FrontTracker, AFrontSlowerThanMassConservationAllowsIsNotABand) {
   auto label_at = [](double c) {
     const auto run = make_run(0.4, [&](double eps, double y) { return bump(y, 0.985 - c * eps); });
     const FrontTracks t = track(run);
-    return decide(compute_features(run.params, run.result, t)).label;
+    return decide(features_of(run, t)).label;
   };
   EXPECT_EQ(label_at(1.0 / 0.6), "a");
   EXPECT_EQ(label_at(1.0), "d");
@@ -154,7 +155,7 @@ TEST(FrontTracker, RandomBlobsAreNotFronts) {
     return bump(y, w[0]) + 0.8 * bump(y, w[1]) + 0.6 * bump(y, w[2]);
   });
   const FrontTracks t = track(run);
-  const Features F = compute_features(run.params, run.result, t);
+  const Features F = features_of(run, t);
   // The most active row jumps by a third of the specimen on average: far above 2 cells.
   EXPECT_GT(F.peak_jump, 2.0);
   EXPECT_EQ(decide(F).label, "d");

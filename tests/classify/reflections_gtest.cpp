@@ -79,8 +79,8 @@ TEST(Reflections, SeenReflectionMakesAReflectingBand) {
       }
     }
   }
-  const Features F = compute_features(s.params, s.result,
-                                      track_fronts(s.result.spacetime, map_axes(s.params, s.result)));
+  const Features F =
+      test::features_of(s, track_fronts(s.result.spacetime, map_axes(s.params, s.result)));
   EXPECT_EQ(F.n_reflections, 1);
   EXPECT_NEAR(F.first_reflection_eps, 0.3, 0.01);
   EXPECT_EQ(decide(F).label, "b");

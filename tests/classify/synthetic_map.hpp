@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "compaction/classify.hpp"
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
 
@@ -50,6 +51,13 @@ inline SyntheticRun make_run(double eps_end, const std::function<double(double, 
 inline double bump(double y, double yc) {
   const double sigma = 0.5 / 34.0;
   return 50.0 * std::exp(-0.5 * (y - yc) * (y - yc) / (sigma * sigma));
+}
+
+// The features as classify() computes them: from the fronts and the band's path in the run's
+// velocity map (an empty path when the run has none).
+inline Features features_of(const SyntheticRun& s, const FrontTracks& t) {
+  const BandPath band = follow_band(s.result.velocity, map_axes(s.params, s.result), TrackerSettings{});
+  return compute_features(s.params, s.result, t, band);
 }
 
 }  // namespace compaction::classify::test

@@ -9,11 +9,16 @@ namespace compaction::classify {
 
 namespace {
 
-// Smooth step from 0 to 1 around x0 with width w; NaN gives `missing`.
-double step(double x, double x0, double w, double missing = 0.0) {
+// Logistic step from 0 to 1 around x0 with width w; `missing` when x is NaN (no feature).
+double logistic(double x, double x0, double w, double missing) {
   if (!std::isfinite(x)) return missing;
   return 1.0 / (1.0 + std::exp(-(x - x0) / w));
 }
+
+// What an evidence is when its feature is missing.
+constexpr double kAbsent = 0.0;     // the evidence does not hold
+constexpr double kPresent = 1.0;    // it holds
+constexpr double kUndecided = 0.5;  // neither
 
 constexpr const char* kNames[6] = {"a", "b", "c", "d", "e", "f"};
 
@@ -25,32 +30,39 @@ Classification decide(const Features& F, const DecisionSettings& s) {
   const double log_ratio = std::isfinite(F.stress_ratio) && F.stress_ratio > 0
                                ? std::log10(F.stress_ratio) : std::numeric_limits<double>::quiet_NaN();
   // Elementary evidence, each in [0, 1].
-  const double buckled = step(F.deflection_growth, s.buckling_growth, 0.2);
-  const double inertial = step(log_ratio, std::log10(s.inertial_ratio), 0.15);
+  const double buckled = logistic(F.deflection_growth, s.buckling_growth, s.buckling_width, kAbsent);
+  const double inertial =
+      logistic(log_ratio, std::log10(s.inertial_ratio), s.inertial_width, kAbsent);
   // Organised: fronts carry the activity, and the most active row moves by less than a band
-  // could travel in a frame (erratic activity jumps between random rows).
-  const double erratic = step(F.peak_jump, s.erratic_jump, 0.3);
-  const double coherent = step(F.coherence, s.coherence, 0.07) * (1.0 - erratic);
-  const double equal = 1.0 - step(std::abs(log_ratio), s.equal_stress, 0.03, 1.0);
+  // could travel in a frame (erratic activity jumps between random rows). Without activity a
+  // run is neither organised enough for (a)-(c) nor disorganised enough for (d).
+  const double erratic = logistic(F.peak_jump, s.erratic_jump, s.erratic_width, kAbsent);
+  const double coherent =
+      logistic(F.coherence, s.coherence, s.coherence_width, kAbsent) * (1.0 - erratic);
+  const double organised =
+      logistic(F.coherence, s.coherence, s.coherence_width, kPresent) * (1.0 - erratic);
+  const double equal =
+      1.0 - logistic(std::abs(log_ratio), s.equal_stress, s.equal_stress_width, kPresent);
   const bool from_top = F.primary_origin == "top";
   const double single = from_top && !F.two_sided ? 1.0 : 0.0;
   // A band reflects when it is seen to reflect, or when it must: it runs faster than the
-  // non-reflecting band (1 / (1 - phi)), or reaches the far plate before eps = 1 - phi, leaving
-  // pores open behind it (mass conservation, c_b / V = 1 / (1 - phi / phi_f)).
-  const double fast = step(F.speed_excess, s.reflecting_excess, 0.05, 0.5);
+  // non-reflecting band (1 / (1 - phi)), or reaches the far plate before the sample is dense,
+  // leaving pores open behind it (mass conservation, c_b / V = 1 / (1 - phi / phi_f)).
+  const double fast = logistic(F.speed_excess, s.reflecting_excess, s.reflecting_width, kUndecided);
   // Both the arrival and a seen reflection count when they come before the strain at which a
   // band within the tolerance would have densified the sample, (1 - phi) / (1 + excess): later
   // the last open pores close (the reflection of a band that was only slightly too fast).
   const double dense_eps = (1.0 / F.nonreflecting_speed) / (1.0 + s.reflecting_excess);
-  const double early = std::isfinite(F.arrival_eps) && F.arrival_eps < dense_eps ? 0.9 : 0.0;
+  const double early =
+      std::isfinite(F.arrival_eps) && F.arrival_eps < dense_eps ? s.early_arrival : 0.0;
   const double seen = F.n_reflections >= 1 && std::isfinite(F.first_reflection_eps) &&
                               F.first_reflection_eps < dense_eps
-                          ? 0.95 : 0.0;
+                          ? s.seen_reflection : 0.0;
   const double reflecting = std::max({seen, fast, early});
   // Mass conservation also bounds a band from below: c_b / V >= 1 / (1 - phi) (phi_f <= 1). A
   // single front from the top that is clearly slower is activity drifting down row by row, not
   // a band compacting everything it passes (erratic compaction, class (d), can look like that).
-  const double banded = step(F.speed_excess, -s.slow_band, 0.03, 1.0);
+  const double banded = logistic(F.speed_excess, -s.slow_band, s.slow_band_width, kPresent);
   const double elastic_struts = 1.0 - buckled;
   const double not_inertial = 1.0 - inertial;
 
@@ -58,10 +70,10 @@ Classification decide(const Features& F, const DecisionSettings& s) {
   S[0] = elastic_struts * not_inertial * coherent * single * banded * (1.0 - reflecting);
   S[1] = elastic_struts * not_inertial * coherent * single * banded * reflecting;
   S[2] = elastic_struts * not_inertial * coherent * (F.two_sided ? 1.0 : 0.0);
-  const double organised = step(F.coherence, s.coherence, 0.07, 1.0) * (1.0 - erratic);
   S[3] = elastic_struts * not_inertial * (1.0 - organised * (single > 0.0 ? banded : 1.0)) *
-         (0.6 + 0.4 * equal);
-  S[4] = elastic_struts * inertial * (from_top ? 1.0 : 0.3) * (0.85 + 0.15 * F.undulation_share);
+         (s.erratic_base + s.erratic_equal_weight * equal);
+  S[4] = elastic_struts * inertial * (from_top ? 1.0 : s.explosive_off_top) *
+         (s.explosive_base + s.explosive_undulation_weight * F.undulation_share);
   S[5] = buckled;
 
   int best = 0, second = -1;
@@ -80,13 +92,16 @@ Classification decide(const Features& F, const DecisionSettings& s) {
 }
 
 Classification classify(const SceneParams& p, const RunResult& r, const Settings& s) {
-  if (r.frames.size() < 5 || r.spacetime.n_frames != static_cast<int>(r.frames.size())) {
+  if (static_cast<int>(r.frames.size()) < s.min_frames ||
+      r.spacetime.n_frames != static_cast<int>(r.frames.size())) {
     Classification c;
     c.label = "unclassified";
     return c;
   }
-  FrontTracks tracks = track_fronts(r.spacetime, map_axes(p, r), s.features.tracker);
-  const Features F = compute_features(p, r, tracks, s.features);
+  const MapAxes axes = map_axes(p, r);
+  FrontTracks tracks = track_fronts(r.spacetime, axes, s.features.tracker);
+  const BandPath band = follow_band(r.velocity, axes, s.features.tracker);
+  const Features F = compute_features(p, r, tracks, band, s.features);
   Classification c = decide(F, s.decision);
   c.tracks = std::move(tracks);
   if (r.status != RunStatus::ok) {

@@ -7,6 +7,8 @@
 #include <set>
 #include <utility>
 
+#include "line_fit.hpp"
+
 namespace compaction::classify {
 
 namespace {
@@ -42,10 +44,9 @@ double first_leg_end(const Front& fr) {
 struct Harmonic { double amplitude = 0.0, share = 0.0; };
 Harmonic harmonic(const std::vector<double>& x, const std::vector<double>& y, double period) {
   const std::size_t n = x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < n; ++i) { sx += x[i]; sy += y[i]; sxx += x[i] * x[i]; sxy += x[i] * y[i]; }
-  const double den = n * sxx - sx * sx;
-  const double b = den > 0 ? (n * sxy - sx * sy) / den : 0.0, a = (sy - b * sx) / n;
+  LineFit trend;
+  for (std::size_t i = 0; i < n; ++i) trend.add(x[i], y[i]);
+  const double b = trend.has_slope() ? trend.slope() : 0.0, a = trend.intercept(b);
   double cc = 0, ss = 0, cs = 0, yc = 0, ys = 0, var = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double r = y[i] - a - b * x[i], w = 2.0 * M_PI * x[i] / period;
@@ -61,27 +62,9 @@ Harmonic harmonic(const std::vector<double>& x, const std::vector<double>& y, do
   return h;
 }
 
-}  // namespace
-
-MapAxes map_axes(const SceneParams& p, const RunResult& r) {
-  MapAxes a;
-  a.h0 = p.h0;
-  a.unit_cell = p.unit_cell();
-  a.eps.reserve(r.frames.size());
-  for (const auto& f : r.frames) a.eps.push_back(f.eps);
-  return a;
-}
-
-Features compute_features(const SceneParams& p, const RunResult& r, const FrontTracks& t,
-                          const FeatureSettings& s) {
-  Features F;
-  F.eps_reached = r.eps_reached;
-  const double phi = r.phi_discrete > 0 ? r.phi_discrete : p.phi;
-  F.nonreflecting_speed = 1.0 / (1.0 - phi);
-  const double cell = p.unit_cell() / p.h0;
-  const double zone = s.tracker.plate_zone * cell;
-
-  // Fronts at onset and the primary front.
+// Counts of the propagating fronts, where they start, the bottom front's speed, and whether
+// the run is two-sided.
+void front_counts(const FrontTracks& t, const FeatureSettings& s, Features& F) {
   double first_activity = kNaN;
   for (const auto& segs : t.segments) {
     if (!segs.empty()) { first_activity = segs.front().eps; break; }
@@ -116,36 +99,37 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
       if (b.start_eps() < first_leg_end(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;
     }
   }
-  // Coherence: the share of all segment activity that some propagating front contains (each
-  // segment counted once, also when crossing fronts share it).
-  {
-    std::set<std::pair<int, double>> in_front;
-    for (const auto& fr : t.fronts) {
-      if (!fr.propagating) continue;
-      for (const auto& g : fr.path) in_front.insert({g.frame, g.lo});
-    }
-    double m = 0.0;
-    for (const auto& segs : t.segments) {
-      for (const auto& g : segs) if (in_front.count({g.frame, g.lo})) m += g.mass;
-    }
-    F.coherence = t.total_mass > 0 ? m / t.total_mass : kNaN;
-  }
+}
 
-  const Front* prim = primary_front(t);
+// The share of all segment activity that some propagating front contains (each segment
+// counted once, also when crossing fronts share it); NaN without activity.
+double coherence(const FrontTracks& t) {
+  std::set<std::pair<int, double>> in_front;
+  for (const auto& fr : t.fronts) {
+    if (!fr.propagating) continue;
+    for (const auto& g : fr.path) in_front.insert({g.frame, g.lo});
+  }
+  double m = 0.0;
+  for (const auto& segs : t.segments) {
+    for (const auto& g : segs) if (in_front.count({g.frame, g.lo})) m += g.mass;
+  }
+  return t.total_mass > 0 ? m / t.total_mass : kNaN;
+}
+
+// The primary front's speed, origin and arrival at the far plate, and the reflections: of the
+// band in the velocity map when it sees more of them than the primary front's turns (it sees
+// reflections the strain-rate map hides, reflections.hpp).
+void band_features(const Front* prim, const BandPath& band, double zone, Features& F) {
   F.band_speed_ratio = prim ? prim->speed : kNaN;
   F.n_reflections = prim ? prim->n_reflections : 0;
   F.first_reflection_eps = kNaN;
   if (prim && !prim->turns.empty() && prim->turns.front().where != Origin::interior) {
     F.first_reflection_eps = prim->turns.front().eps;
   }
-  if (r.velocity.n_frames == r.spacetime.n_frames && r.velocity.n_frames > 0) {
-    // The velocity map sees reflections the strain-rate map hides (reflections.hpp).
-    const BandPath band = follow_band(r.velocity, map_axes(p, r), s.tracker);
-    F.band_turns = band.n_turns;
-    if (band.n_reflections > F.n_reflections) {
-      F.n_reflections = band.n_reflections;
-      F.first_reflection_eps = band.first_reflection_eps;
-    }
+  F.band_turns = band.n_turns;
+  if (band.n_reflections > F.n_reflections) {
+    F.n_reflections = band.n_reflections;
+    F.first_reflection_eps = band.first_reflection_eps;
   }
   F.primary_origin = prim ? to_string(prim->origin) : "";
   F.speed_excess = F.band_speed_ratio / F.nonreflecting_speed - 1.0;
@@ -156,26 +140,28 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
       if (there) { F.arrival_eps = g.eps; break; }
     }
   }
+}
 
-  // Jumps of the most active row between consecutive frames with activity.
-  {
-    std::vector<double> jumps;
-    int prev = -1;
-    const auto& m = r.spacetime;
-    for (int f = 0; f < m.n_frames; ++f) {
-      int arg = -1;
-      float best = static_cast<float>(s.tracker.abs_threshold);
-      for (int q = 0; q < m.n_rows; ++q) {
-        if (m.at(f, q) > best) { best = m.at(f, q); arg = q; }
-      }
-      if (arg >= 0 && prev >= 0) jumps.push_back(std::abs(arg - prev) * m.row_height / p.unit_cell());
-      if (arg >= 0) prev = arg;
+// Median jump of the most active row (above abs_threshold) between consecutive frames with
+// activity, in unit cells; NaN with fewer than two such frames.
+double peak_jump(const SpaceTimeMap& m, double unit_cell, double abs_threshold) {
+  std::vector<double> jumps;
+  int prev = -1;
+  for (int f = 0; f < m.n_frames; ++f) {
+    int arg = -1;
+    float best = static_cast<float>(abs_threshold);
+    for (int q = 0; q < m.n_rows; ++q) {
+      if (m.at(f, q) > best) { best = m.at(f, q); arg = q; }
     }
-    F.peak_jump = median(jumps);
+    if (arg >= 0 && prev >= 0) jumps.push_back(std::abs(arg - prev) * m.row_height / unit_cell);
+    if (arg >= 0) prev = arg;
   }
+  return median(jumps);
+}
 
-  // First yield and strut deflection before it.
-  const auto& fr = r.frames;
+// First yield and the growth of the strut deflection before it; returns the frame of first
+// yield (-1: none).
+int strut_features(const std::vector<Frame>& fr, const FeatureSettings& s, Features& F) {
   int fy = -1;
   for (std::size_t i = 0; i < fr.size(); ++i) {
     if (fr[i].plastic_fraction >= s.yield_fraction) { fy = static_cast<int>(i); break; }
@@ -187,52 +173,87 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
     F.deflection_before_yield = fr[fy - 1].max_deflection;
     F.deflection_growth = std::log10(before / base);
   }
+  return fy;
+}
 
-  // Stress peak near first yield, then drop: peak of the top stress up to a few frames after
-  // first yield (past the impact frames), against the median of the following 0.05 of strain.
-  if (fy >= 0) {
-    int ipk = -1;
-    const int stop = std::min<int>(fy + 5, static_cast<int>(fr.size()) - 1);
-    for (int i = s.impact_frames; i <= stop; ++i) {
-      if (ipk < 0 || fr[i].sigma_top > fr[ipk].sigma_top) ipk = i;
-    }
-    if (ipk >= 0 && fr[ipk].sigma_top > 0) {
-      std::vector<double> after;
-      for (std::size_t i = ipk + 1; i < fr.size() && fr[i].eps <= fr[ipk].eps + 0.05; ++i) {
-        after.push_back(fr[i].sigma_top);
-      }
-      if (!after.empty()) F.stress_drop = 1.0 - median(after) / fr[ipk].sigma_top;
-    }
+// The drop of the top stress after its peak near first yield (frame fy): the peak up to
+// peak_frames after fy (past the impact frames), against the median of the following
+// drop_window of strain. 0 when there is no peak or nothing after it.
+double stress_drop(const std::vector<Frame>& fr, int fy, const FeatureSettings& s) {
+  int ipk = -1;
+  const int stop = std::min<int>(fy + s.peak_frames, static_cast<int>(fr.size()) - 1);
+  for (int i = s.impact_frames; i <= stop; ++i) {
+    if (ipk < 0 || fr[i].sigma_top > fr[ipk].sigma_top) ipk = i;
   }
+  if (ipk < 0 || !(fr[ipk].sigma_top > 0)) return 0.0;
+  std::vector<double> after;
+  for (std::size_t i = ipk + 1; i < fr.size() && fr[i].eps <= fr[ipk].eps + s.drop_window; ++i) {
+    after.push_back(fr[i].sigma_top);
+  }
+  return after.empty() ? 0.0 : 1.0 - median(after) / fr[ipk].sigma_top;
+}
 
-  // Plate stresses during propagation: from 30 % of the primary front's first leg (the elastic
-  // precursor has had time to load the bottom) to its end; the whole run if there is no front.
-  const double leg_end = prim ? first_leg_end(*prim) : r.eps_reached;
+// Plate stresses while the primary front runs, from propagation_start of its first leg (the
+// elastic precursor has had time to load the bottom) to the leg's end: the ratio of the median
+// top and bottom stresses, and the undulation of the top stress at one period per row of
+// voids the front crosses, P = (L / h0) / (c_b / V), the best of period_min-period_max times P
+// (the front's speed varies).
+void stress_features(const std::vector<Frame>& fr, double leg_end, double cell,
+                     const FeatureSettings& s, Features& F) {
   std::vector<double> xs, tops, bots;
   for (std::size_t i = s.impact_frames; i < fr.size(); ++i) {
-    if (fr[i].eps < 0.3 * leg_end || fr[i].eps > leg_end) continue;
+    if (fr[i].eps < s.propagation_start * leg_end || fr[i].eps > leg_end) continue;
     xs.push_back(fr[i].eps);
     tops.push_back(fr[i].sigma_top);
     bots.push_back(std::abs(fr[i].sigma_bottom));
   }
   const double mt = median(tops), mb = median(bots);
-  F.stress_ratio = std::isfinite(mt) ? mt / std::max(mb, 1e-6 * std::abs(mt)) : kNaN;
+  F.stress_ratio = std::isfinite(mt) ? mt / std::max(mb, s.bottom_floor * std::abs(mt)) : kNaN;
 
-  // Undulation of the top stress at one period per row of voids the front crosses,
-  // P = (L / h0) / (c_b / V); the best of periods 0.7-1.4 P (the front's speed varies).
-  if (std::isfinite(F.band_speed_ratio) && F.band_speed_ratio > 0 && mt > 0 && xs.size() >= 8) {
-    const double P = cell / F.band_speed_ratio;
-    const double span = xs.back() - xs.front(), d = xs.size() > 1 ? span / (xs.size() - 1) : 0;
-    if (span >= 2 * P && P >= 4 * d) {
-      for (double q = 0.7; q <= 1.4001; q += 0.05) {
-        const Harmonic h = harmonic(xs, tops, q * P);
-        if (h.share > F.undulation_share) {
-          F.undulation_share = h.share;
-          F.top_stress_undulation = h.amplitude / mt;
-        }
-      }
+  if (!(std::isfinite(F.band_speed_ratio) && F.band_speed_ratio > 0 && mt > 0 &&
+        xs.size() >= static_cast<std::size_t>(s.undulation_min_frames))) {
+    return;
+  }
+  const double P = cell / F.band_speed_ratio;
+  const double span = xs.back() - xs.front(), d = xs.size() > 1 ? span / (xs.size() - 1) : 0;
+  if (!(span >= s.undulation_periods * P && P >= s.undulation_sampling * d)) return;
+  // Half a step of slack: the sum of the steps may round above period_max.
+  for (double q = s.period_min; q <= s.period_max + 0.5 * s.period_step; q += s.period_step) {
+    const Harmonic h = harmonic(xs, tops, q * P);
+    if (h.share > F.undulation_share) {
+      F.undulation_share = h.share;
+      F.top_stress_undulation = h.amplitude / mt;
     }
   }
+}
+
+}  // namespace
+
+MapAxes map_axes(const SceneParams& p, const RunResult& r) {
+  MapAxes a;
+  a.h0 = p.h0;
+  a.unit_cell = p.unit_cell();
+  a.eps.reserve(r.frames.size());
+  for (const auto& f : r.frames) a.eps.push_back(f.eps);
+  return a;
+}
+
+Features compute_features(const SceneParams& p, const RunResult& r, const FrontTracks& t,
+                          const BandPath& band, const FeatureSettings& s) {
+  Features F;
+  F.eps_reached = r.eps_reached;
+  const double phi = r.phi_discrete > 0 ? r.phi_discrete : p.phi;
+  F.nonreflecting_speed = 1.0 / (1.0 - phi);
+  const double cell = p.unit_cell() / p.h0;
+  const Front* prim = primary_front(t);
+
+  front_counts(t, s, F);
+  F.coherence = coherence(t);
+  band_features(prim, band, s.tracker.plate_zone * cell, F);
+  F.peak_jump = peak_jump(r.spacetime, p.unit_cell(), s.tracker.abs_threshold);
+  const int fy = strut_features(r.frames, s, F);
+  if (fy >= 0) F.stress_drop = stress_drop(r.frames, fy, s);
+  stress_features(r.frames, prim ? first_leg_end(*prim) : r.eps_reached, cell, s, F);
   return F;
 }
 

@@ -6,6 +6,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "line_fit.hpp"
+#include "turns.hpp"
+
 namespace compaction::classify {
 
 const char* to_string(Origin o) {
@@ -124,9 +127,10 @@ const Segment& last_own(const Front& fr) {
 
 // Velocity of a front's centroid in h0 per frame from its last few own segments; zero while it
 // sits at a plate, where it may turn.
-double velocity(const Front& fr, const Scales& k) {
+double velocity(const Front& fr, const Scales& k, const TrackerSettings& s) {
   std::vector<const Segment*> own;
-  for (auto it = fr.path.rbegin(); it != fr.path.rend() && own.size() < 4; ++it) {
+  const std::size_t count = static_cast<std::size_t>(s.velocity_segments);
+  for (auto it = fr.path.rbegin(); it != fr.path.rend() && own.size() < count; ++it) {
     if (!it->shared) own.push_back(&*it);
   }
   if (own.size() < 2 || where(*own.front(), k) != Origin::interior) return 0.0;
@@ -139,58 +143,143 @@ double gap(double lo1, double hi1, double lo2, double hi2) {
   return std::max(0.0, std::max(lo1, lo2) - std::min(hi1, hi2));
 }
 
-// Reversals of the centroid by more than the travel threshold (hysteresis), each at its extreme.
+// Turns of the centroid (turns.hpp). The front sets off once it is min_travel from where it
+// started; a turn at its extreme is a reflection when the front's leading edge is in the zone of
+// the plate it came to. Diffuse and shared segments give no position.
 void find_turns(Front& fr, const Scales& k) {
   const auto& p = fr.path;
-  int dir = 0;
-  std::size_t ext = 0;
+  TurnFollower follower(k.turn);
   const double c0 = p.front().centroid;
   for (std::size_t i = 1; i < p.size(); ++i) {
     if (diffuse(p[i], k) || p[i].shared) continue;
     const double c = p[i].centroid;
     fr.travel = std::max(fr.travel, std::abs(c - c0));
-    if (dir == 0) {
-      if (std::abs(c - c0) >= k.travel) { dir = c > c0 ? 1 : -1; ext = i; }
+    if (!follower.moving()) {
+      if (std::abs(c - c0) >= k.travel) follower.set_off(c > c0 ? 1 : -1, i, c);
       continue;
     }
-    const double ce = p[ext].centroid;
-    if ((dir < 0 && c < ce) || (dir > 0 && c > ce)) { ext = i; continue; }
-    if (std::abs(c - ce) >= k.turn) {
-      TurningPoint t;
-      t.index = static_cast<int>(ext);
-      t.eps = p[ext].eps;
-      const Segment& g = p[ext];
-      if (dir < 0 && g.lo <= k.zone) t.where = Origin::bottom;
-      else if (dir > 0 && g.hi >= top_of(g.eps) - k.zone) t.where = Origin::top;
-      fr.turns.push_back(t);
-      if (t.where != Origin::interior) ++fr.n_reflections;
-      dir = -dir;
-      ext = i;
-    }
+    const std::optional<Turn> turn = follower.next(i, c);
+    if (!turn) continue;
+    const Segment& g = p[turn->index];
+    TurningPoint t;
+    t.index = static_cast<int>(turn->index);
+    t.eps = g.eps;
+    if (turn->came < 0 && g.lo <= k.zone) t.where = Origin::bottom;
+    else if (turn->came > 0 && g.hi >= top_of(g.eps) - k.zone) t.where = Origin::top;
+    fr.turns.push_back(t);
+    if (t.where != Origin::interior) ++fr.n_reflections;
   }
 }
 
 // Least-squares slope of the leading edge over the part before the first turn, away from both
 // plates. The leading edge is the lower edge of a front moving down, the upper edge of one
 // moving up.
-void fit_speed(Front& fr, const Scales& k) {
+void fit_speed(Front& fr, const Scales& k, const TrackerSettings& s) {
   fr.speed = std::numeric_limits<double>::quiet_NaN();
   const auto& p = fr.path;
   const std::size_t last = fr.turns.empty() ? p.size() - 1 : fr.turns.front().index;
   const bool down = p[last].centroid < p.front().centroid;
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int n = 0;
+  LineFit fit;
   for (std::size_t i = 0; i <= last; ++i) {
     if (diffuse(p[i], k) || p[i].shared) continue;
     const double y = down ? p[i].lo : p[i].hi;
     if (y < k.margin || y > top_of(p[i].eps) - k.margin) continue;
-    sx += p[i].eps; sy += y; sxx += p[i].eps * p[i].eps; sxy += p[i].eps * y; ++n;
+    fit.add(p[i].eps, y);
   }
-  if (n < 3) return;
-  const double den = n * sxx - sx * sx;
-  if (!(den > 0)) return;
-  const double slope = (n * sxy - sx * sy) / den;  // h0 per unit imposed strain = speed / V
+  if (fit.n < s.min_fit_points || !fit.has_slope()) return;
+  const double slope = fit.slope();  // h0 per unit imposed strain = speed / V
   fr.speed = down ? -slope : slope;
+}
+
+// Where a front is expected in frame f: its last own segment moved on with its velocity.
+struct Prediction { double lo, hi, centroid; };
+Prediction predict(const Front& fr, int f, const Scales& k, const TrackerSettings& s) {
+  const Segment& b = last_own(fr);
+  const double shift = velocity(fr, k, s) * (f - b.frame);
+  return {b.lo + shift, b.hi + shift, b.centroid + shift};
+}
+
+// A possible continuation of front `front` by segment `seg` of the frame; closest first.
+struct Link { double distance; int seg, front; };
+
+// The fronts being followed and the frame each was last seen in.
+struct Linking {
+  std::vector<Front>& fronts;
+  std::vector<int> last_seen;
+};
+
+// Live fronts whose predicted interval is within link_tol of a segment, closest centroid first.
+std::vector<Link> candidate_links(const Linking& L, const std::vector<Segment>& segs, int f,
+                                  const Scales& k, const TrackerSettings& s) {
+  std::vector<Link> links;
+  for (int j = 0; j < static_cast<int>(L.fronts.size()); ++j) {
+    if (f - L.last_seen[j] > s.max_missing + 1) continue;
+    const Prediction at = predict(L.fronts[j], f, k, s);
+    for (int i = 0; i < static_cast<int>(segs.size()); ++i) {
+      if (gap(at.lo, at.hi, segs[i].lo, segs[i].hi) > k.link) continue;
+      links.push_back({std::abs(segs[i].centroid - at.centroid), i, j});
+    }
+  }
+  std::sort(links.begin(), links.end(), [](const Link& a, const Link& b) {
+    if (a.distance != b.distance) return a.distance < b.distance;
+    return a.front != b.front ? a.front < b.front : a.seg < b.seg;
+  });
+  return links;
+}
+
+// Where a new front in frame f with segment g starts: the plate it touches, or, when it is
+// within link_tol of a front seen in this frame, that front's origin (it splits off it; the
+// nearest such front).
+Origin origin_of_new(const Linking& L, const Segment& g, int f, const Scales& k) {
+  Origin origin = where(g, k);
+  double nearest = k.link;
+  for (std::size_t j = 0; j < L.last_seen.size(); ++j) {
+    if (L.last_seen[j] != f) continue;
+    const Segment& b = L.fronts[j].path.back();
+    const double d = gap(b.lo, b.hi, g.lo, g.hi);
+    if (d <= nearest) { nearest = d; origin = L.fronts[j].origin; }
+  }
+  return origin;
+}
+
+// Links one frame's segments to the fronts (greedy, closest first, one segment per front); a
+// front left over that crosses a taken segment shares it; every segment left over starts a
+// front.
+void link_frame(Linking& L, const std::vector<Segment>& segs, int f, const Scales& k,
+                const TrackerSettings& s) {
+  const std::vector<Link> links = candidate_links(L, segs, f, k, s);
+  std::vector<bool> seg_used(segs.size(), false), front_used(L.fronts.size(), false);
+  for (const auto& ln : links) {
+    if (seg_used[ln.seg] || front_used[ln.front]) continue;
+    seg_used[ln.seg] = front_used[ln.front] = true;
+    L.fronts[ln.front].path.push_back(segs[ln.seg]);
+    L.last_seen[ln.front] = f;
+  }
+  // A live front left without a segment whose predicted interval overlaps a taken segment
+  // has merged with another front (they cross): it shares that segment.
+  for (const auto& ln : links) {
+    if (front_used[ln.front] || !seg_used[ln.seg]) continue;
+    const Prediction at = predict(L.fronts[ln.front], f, k, s);
+    if (gap(at.lo, at.hi, segs[ln.seg].lo, segs[ln.seg].hi) > 0.0) continue;
+    Segment g = segs[ln.seg];
+    g.shared = true;
+    for (auto& other : L.fronts) {
+      if (!other.path.empty() && other.path.back().frame == f && other.path.back().lo == g.lo) {
+        other.path.back().shared = true;
+      }
+    }
+    L.fronts[ln.front].path.push_back(g);
+    front_used[ln.front] = true;
+    L.last_seen[ln.front] = f;
+  }
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    if (seg_used[i]) continue;
+    Front fr;
+    fr.origin = origin_of_new(L, segs[i], f, k);
+    fr.path.push_back(segs[i]);
+    L.fronts.push_back(fr);
+    L.last_seen.push_back(f);
+  }
 }
 
 }  // namespace
@@ -206,77 +295,16 @@ FrontTracks track_fronts(const SpaceTimeMap& map, const MapAxes& axes, const Tra
   const Scales k = make_scales(map, axes, s);
   FrontTracks out;
   out.segments.resize(map.n_frames);
-  std::vector<int> last_seen;  // frame each front was last seen
+  Linking linking{out.fronts, {}};
   for (int f = 0; f < map.n_frames; ++f) {
     out.segments[f] = detect_segments(map, f, axes.eps[f], k, s);
-    const auto& segs = out.segments[f];
-    for (const auto& g : segs) out.total_mass += g.mass;
-
-    // Candidate links: live fronts whose predicted interval is within link_tol of a segment.
-    struct Pair { double key; int seg, front; };
-    std::vector<Pair> pairs;
-    for (int j = 0; j < static_cast<int>(out.fronts.size()); ++j) {
-      const int missing = f - last_seen[j];
-      if (missing > s.max_missing + 1) continue;
-      const Front& fr = out.fronts[j];
-      const Segment& b = last_own(fr);
-      const double shift = velocity(fr, k) * (f - b.frame);
-      const double lo = b.lo + shift, hi = b.hi + shift, c = b.centroid + shift;
-      for (int i = 0; i < static_cast<int>(segs.size()); ++i) {
-        if (gap(lo, hi, segs[i].lo, segs[i].hi) > k.link) continue;
-        pairs.push_back({std::abs(segs[i].centroid - c), i, j});
-      }
-    }
-    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-      return a.key != b.key ? a.key < b.key : (a.front != b.front ? a.front < b.front : a.seg < b.seg);
-    });
-    std::vector<bool> seg_used(segs.size(), false), front_used(out.fronts.size(), false);
-    for (const auto& pr : pairs) {
-      if (seg_used[pr.seg] || front_used[pr.front]) continue;
-      seg_used[pr.seg] = front_used[pr.front] = true;
-      out.fronts[pr.front].path.push_back(segs[pr.seg]);
-      last_seen[pr.front] = f;
-    }
-    // A live front left without a segment whose predicted interval overlaps a taken segment
-    // has merged with another front (they cross): it shares that segment.
-    for (const auto& pr : pairs) {
-      if (front_used[pr.front] || !seg_used[pr.seg]) continue;
-      const Front& fr = out.fronts[pr.front];
-      const Segment& b = last_own(fr);
-      const double shift = velocity(fr, k) * (f - b.frame);
-      if (gap(b.lo + shift, b.hi + shift, segs[pr.seg].lo, segs[pr.seg].hi) > 0.0) continue;
-      Segment g = segs[pr.seg];
-      g.shared = true;
-      for (auto& other : out.fronts) {
-        if (!other.path.empty() && other.path.back().frame == f && other.path.back().lo == g.lo) {
-          other.path.back().shared = true;
-        }
-      }
-      out.fronts[pr.front].path.push_back(g);
-      front_used[pr.front] = true;
-      last_seen[pr.front] = f;
-    }
-    for (std::size_t i = 0; i < segs.size(); ++i) {
-      if (seg_used[i]) continue;
-      Front fr;
-      fr.origin = where(segs[i], k);
-      // A segment next to a front seen in this frame splits off it and shares its origin.
-      double nearest = k.link;
-      for (std::size_t j = 0; j < last_seen.size(); ++j) {
-        if (last_seen[j] != f) continue;
-        const Segment& b = out.fronts[j].path.back();
-        const double d = gap(b.lo, b.hi, segs[i].lo, segs[i].hi);
-        if (d <= nearest) { nearest = d; fr.origin = out.fronts[j].origin; }
-      }
-      fr.path.push_back(segs[i]);
-      out.fronts.push_back(fr);
-      last_seen.push_back(f);
-    }
+    for (const auto& g : out.segments[f]) out.total_mass += g.mass;
+    link_frame(linking, out.segments[f], f, k, s);
   }
   for (auto& fr : out.fronts) {
     find_turns(fr, k);
     fr.propagating = fr.travel >= k.travel;
-    fit_speed(fr, k);
+    fit_speed(fr, k, s);
   }
   return out;
 }

@@ -2,10 +2,11 @@
 //
 // classify() reads only what a run produced (space-time map, plate stresses, per-frame strut
 // diagnostics) and the geometry of its parameters (h0, unit cell, the particles' solid fraction);
-// never S or R. It tracks fronts (classify/fronts.hpp), computes features
-// (classify/features.hpp) and scores each class with soft rules on physically motivated
-// thresholds (docs/classifier.md). The label is the best score; the confidence is its margin
-// over the runner-up.
+// never S or R. It tracks the fronts of the strain-rate map (classify/fronts.hpp), follows the
+// band through the velocity map (classify/reflections.hpp), computes features
+// (classify/features.hpp) and decides: it scores each class with soft rules on physically
+// motivated thresholds (docs/classifier.md). The label is the best score; the confidence is its
+// margin over the runner-up. Every threshold is in classify/settings.hpp.
 #pragma once
 
 #include <array>
@@ -15,31 +16,12 @@
 
 #include "compaction/classify/features.hpp"
 #include "compaction/classify/fronts.hpp"
+#include "compaction/classify/reflections.hpp"
+#include "compaction/classify/settings.hpp"
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
 
 namespace compaction::classify {
-
-// Thresholds of the decision. Each is a physical statement, see docs/classifier.md.
-struct DecisionSettings {
-  double buckling_growth = 1.0;     // struts buckle: deflection grows > 10x while elastic [decades]
-  double inertial_ratio = 30.0;     // explosive: top stress > 30x bottom stress during propagation [-]
-  double coherence = 0.5;           // organised: fronts carry more than half the activity [-]
-  double erratic_jump = 2.0;        // erratic: the most active row jumps by more than this
-                                    // between frames (a band at c/V = 10 moves 0.7 cell) [cells]
-  double reflecting_excess = 0.2;   // a band > 1.2 / (1 - phi) leaves > 1/6 of its porosity and
-                                    // must reflect to densify                         [-]
-  double slow_band = 0.15;          // a single band from the top slower than (1 - this) / (1 - phi)
-                                    // is not a compaction band: it would leave the solid denser
-                                    // than solid behind it (mass conservation)         [-]
-  double equal_stress = 0.1;        // quasi-static: |log10(top / bottom)| below this  [decades]
-  double min_score = 0.4;           // below it the run is "unclassified"              [-]
-};
-
-struct Settings {
-  FeatureSettings features;
-  DecisionSettings decision;
-};
 
 struct Classification {
   std::string label;       // "a".."f" or "unclassified"
@@ -50,8 +32,10 @@ struct Classification {
   FrontTracks tracks;
 };
 
-// Classifies a finished run. Runs that are not "ok" or have fewer than 5 frames are
-// "unclassified" (their features are still computed when there are frames).
+// Classifies a finished run: track_fronts, follow_band, compute_features, decide. Runs with fewer
+// than s.min_frames frames, or a map whose frames are not the run's, are "unclassified" without
+// features; runs that are not "ok" are
+// "unclassified" with their features.
 Classification classify(const SceneParams& p, const RunResult& r, const Settings& s = {});
 
 // Scores and label from features alone (the decision step).

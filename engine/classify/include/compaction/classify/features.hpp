@@ -10,63 +10,66 @@
 
 #include "compaction/classify/fronts.hpp"
 #include "compaction/classify/reflections.hpp"
+#include "compaction/classify/settings.hpp"
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
 
 namespace compaction::classify {
 
-struct FeatureSettings {
-  TrackerSettings tracker;
-  double onset_window = 0.05;      // fronts starting this soon after the first activity are
-                                   // "at onset"                                     [strain]
-  double yield_fraction = 0.01;    // first yield: this share of particles yields in a frame [-]
-  double deflection_floor = 1e-9;  // deflections below this are round-off      [strut thickness]
-  int impact_frames = 2;           // first frames left out of stress features (plate impact) [-]
-};
-
+// Every feature is written to summary.json's "features" (to_json below); the dashboard shows them
+// all. The first group is what the decision's rules read; the second is shown for people only
+// (and checked by the tests): no rule reads it.
 struct Features {
-  // Fronts.
-  int n_fronts = 0;                  // propagating fronts (travel >= min_travel)
-  int n_fronts_onset = 0;            // ... that start within onset_window of the first activity
-  std::vector<std::string> onset_origins;  // where those start: top, bottom, interior
-  bool top_front = false;            // a propagating front starts at the top plate
-  bool bottom_front = false;         // a propagating front starts at the bottom plate
+  // Read by the rules. Fronts.
   bool two_sided = false;            // a top front from the onset and a bottom front propagate
                                      // at the same time (class (c)'s crossing bands)
+  std::string primary_origin;        // origin of the primary front ("" if none)
   int n_reflections = 0;             // reflections at the plates: of the band in the velocity
                                      // map (reflections.hpp), else turns of the primary front
   double first_reflection_eps = 0.0; // strain of the first reflection (NaN: none)
-  int band_turns = 0;                // all turns of the band in the velocity map, at a plate or
-                                     // not (a reflection is a turn within turn_travel of a plate)
-  double band_speed_ratio = 0.0;     // c_b / V of the primary front before its first turn (NaN: none)
-  double bottom_speed_ratio = 0.0;   // c / V of the strongest bottom front (NaN: none)
+  double band_speed_ratio = 0.0;     // c_b / V of the primary front before its first turn (NaN:
+                                     // none); the rules read it as speed_excess
   double nonreflecting_speed = 0.0;  // 1 / (1 - phi) with the particles' phi        [-]
   double speed_excess = 0.0;         // band_speed_ratio (1 - phi) - 1  (0: non-reflecting) [-]
   double arrival_eps = 0.0;          // strain at which the primary front reached the opposite
                                      // plate (NaN: it did not)                      [-]
-  std::string primary_origin;        // origin of the primary front ("" if none)
   // Organisation of plastic activity.
   double coherence = 0.0;            // share of activity carried by propagating fronts (NaN:
                                      // no activity)                                 [-]
   double peak_jump = 0.0;            // median jump of the most active row between frames [cells]
   // Plate stresses.
   double stress_ratio = 0.0;         // median top / median bottom stress during propagation [-]
-  double top_stress_undulation = 0.0;  // amplitude of the top stress at one period per row of
-                                       // voids crossed, / mean top stress           [-]
-  double undulation_share = 0.0;     // share of the detrended top-stress variance at that period
-  double stress_drop = 0.0;          // 1 - (top stress after the peak) / (peak near first yield)
+  double undulation_share = 0.0;     // share of the detrended top-stress variance at one period
+                                     // per row of voids crossed                     [-]
   // Struts.
+  double deflection_growth = 0.0;    // log10 of the growth of the largest strut deflection from
+                                     // the first frame to the one before first yield (floored)
+                                     //                                             [decades]
+
+  // Shown only (no rule reads them).
+  int n_fronts = 0;                  // propagating fronts (travel >= min_travel)
+  int n_fronts_onset = 0;            // ... that start within onset_window of the first activity
+  std::vector<std::string> onset_origins;  // where those start: top, bottom, interior
+  bool top_front = false;            // a propagating front starts at the top plate
+  bool bottom_front = false;         // a propagating front starts at the bottom plate
+  int band_turns = 0;                // all turns of the band in the velocity map, at a plate or
+                                     // not (a reflection is a turn within turn_travel of a plate)
+  double bottom_speed_ratio = 0.0;   // c / V of the strongest bottom front (NaN: none)
+  double top_stress_undulation = 0.0;  // amplitude of the top stress at that period, / median
+                                       // top stress                                 [-]
+  double stress_drop = 0.0;          // 1 - (top stress after the peak) / (peak near first yield)
   double eps_first_yield = 0.0;      // first frame with yield_fraction of particles yielding (NaN)
   double deflection_before_yield = 0.0;  // max strut deflection just before first yield [thickness]
-  double deflection_growth = 0.0;    // log10 of its growth since the first frame (floored) [decades]
-  double eps_reached = 0.0;
+  double eps_reached = 0.0;          // strain the run reached                       [-]
 };
 
 // Axes of the run's space-time map (strain of each frame, h0, unit cell).
 MapAxes map_axes(const SceneParams& p, const RunResult& r);
 
+// The features from the fronts of the strain-rate map (track_fronts) and the band's path in the
+// velocity map (follow_band; an empty path when the run has no velocity map).
 Features compute_features(const SceneParams& p, const RunResult& r, const FrontTracks& tracks,
-                          const FeatureSettings& s = {});
+                          const BandPath& band, const FeatureSettings& s = {});
 
 nlohmann::json to_json(const Features& f);
 

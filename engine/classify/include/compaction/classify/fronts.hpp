@@ -6,11 +6,12 @@
 // predicted interval it overlaps or comes closest to (within a tolerance), one segment per front.
 // A front records where it started (top plate, bottom plate, interior), its positions, its turning
 // points, the reflections at the plates among them, and the speed of its leading edge before the
-// first reflection. docs/classifier.md explains each threshold.
+// first turn. Its thresholds are TrackerSettings (settings.hpp).
 #pragma once
 
 #include <vector>
 
+#include "compaction/classify/settings.hpp"
 #include "compaction/result.hpp"
 
 namespace compaction::classify {
@@ -18,23 +19,6 @@ namespace compaction::classify {
 // Where a front begins or turns.
 enum class Origin { top, bottom, interior };
 const char* to_string(Origin o);
-
-// Thresholds of the tracker. Lengths are in unit cells (the period of the structure), strain
-// rates in units of the imposed mean rate V / h0 (the unit of the space-time map).
-struct TrackerSettings {
-  double rel_threshold = 0.2;   // a row is active above this share of its frame's peak      [-]
-  double abs_threshold = 1.0;   // ... and above the imposed mean strain rate V/h0            [V/h0]
-  double smooth = 0.125;        // half-width of the box filter over rows                   [cells]
-  double merge_gap = 0.5;       // runs of active rows closer than this form one segment    [cells]
-  double link_tol = 1.0;        // a segment continues a front within this distance         [cells]
-  int max_missing = 3;          // frames a front may go unseen before it ends              [-]
-  double plate_zone = 1.5;      // within this distance of a plate a front is "at the plate" [cells]
-  double min_travel = 2.0;      // a front propagates when it travels at least this far     [cells]
-  double turn_travel = 4.0;     // a turn: the front goes back at least this far            [cells]
-  double max_extent = 0.5;      // a segment wider than this share of the current height is
-                                // diffuse activity: it is tracked but gives no position    [-]
-  double fit_margin = 1.0;      // the speed fit skips this distance next to either plate   [cells]
-};
 
 // The axes of a space-time map: the imposed strain of each frame and the lengths.
 struct MapAxes {
