@@ -6,7 +6,7 @@
 
 #include <httplib.h>
 
-#include "job_store.hpp"
+#include "store.hpp"
 #include "options.hpp"
 #include "planner.hpp"
 
@@ -19,7 +19,7 @@ struct RequestCounters {
 };
 
 struct App {
-  JobStore& store;
+  Store& store;
   ServerOptions options;
   PlannerLimits limits;
   RequestCounters requests;

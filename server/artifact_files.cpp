@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "job_store.hpp"
+#include "queue_store.hpp"
 
 namespace compaction::server {
 

@@ -1,6 +1,6 @@
 // The states of a job and who moves a job into and out of each. The schema enforces the set
 // (schema/migrations/0001_init.sql: CHECK on jobs.state); every transition is one guarded UPDATE
-// in job_store.cpp (`WHERE id = ? AND state = ...`), so zero rows changed means the move lost.
+// in queue_store.cpp or sweep_store.cpp (`WHERE id = ? AND state = ...`), so zero rows changed means the move lost.
 #pragma once
 
 #include <optional>
@@ -9,25 +9,25 @@
 namespace compaction::server {
 
 enum class JobState {
-  // In:  JobStore::create_sweep (new parameters, or a failed/cancelled job a new sweep wants),
-  //      JobStore::fail (a retryable failure with attempts left, after a backoff: run_after),
-  //      JobStore::release (the worker stopped; requeued at once, the attempt not counted),
-  //      JobStore::requeue_expired (the lease rescuer: the deadline passed without heartbeat).
-  // Out: JobStore::lease -> running; JobStore::cancel_sweep -> cancelled.
+  // In:  SweepStore::create (new parameters, or a failed/cancelled job a new sweep wants),
+  //      QueueStore::fail (a retryable failure with attempts left, after a backoff: run_after),
+  //      QueueStore::release (the worker stopped; requeued at once, the attempt not counted),
+  //      QueueStore::requeue_expired (the lease rescuer: the deadline passed without heartbeat).
+  // Out: QueueStore::lease -> running; SweepStore::cancel -> cancelled.
   queued,
-  // In:  JobStore::lease (a worker holds a lease token and a deadline).
-  // Out: JobStore::complete -> succeeded; JobStore::fail -> queued or failed;
-  //      JobStore::release -> queued; JobStore::requeue_expired -> queued or failed;
-  //      JobStore::cancel_sweep -> cancelled (the worker learns it at its next heartbeat: 409).
+  // In:  QueueStore::lease (a worker holds a lease token and a deadline).
+  // Out: QueueStore::complete -> succeeded; QueueStore::fail -> queued or failed;
+  //      QueueStore::release -> queued; QueueStore::requeue_expired -> queued or failed;
+  //      SweepStore::cancel -> cancelled (the worker learns it at its next heartbeat: 409).
   running,
-  // In:  JobStore::complete with the live lease token (the result row is written in the same
+  // In:  QueueStore::complete with the live lease token (the result row is written in the same
   //      transaction, status "ok" or "unstable"). Out: never; the result is reused by later sweeps.
   succeeded,
-  // In:  JobStore::fail (not retryable, or attempts exhausted), JobStore::requeue_expired
-  //      (attempts exhausted). Out: JobStore::create_sweep -> queued with fresh attempts.
+  // In:  QueueStore::fail (not retryable, or attempts exhausted), QueueStore::requeue_expired
+  //      (attempts exhausted). Out: SweepStore::create -> queued with fresh attempts.
   failed,
-  // In:  JobStore::cancel_sweep (no other live sweep wants the job).
-  // Out: JobStore::create_sweep -> queued with fresh attempts.
+  // In:  SweepStore::cancel (no other live sweep wants the job).
+  // Out: SweepStore::create -> queued with fresh attempts.
   cancelled,
 };
 

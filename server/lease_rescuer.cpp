@@ -6,8 +6,8 @@
 
 namespace compaction::server {
 
-LeaseRescuer::LeaseRescuer(JobStore& store, std::chrono::milliseconds interval)
-    : store_(store), interval_(interval), thread_([this] { run(); }) {}
+LeaseRescuer::LeaseRescuer(QueueStore& queue, std::chrono::milliseconds interval)
+    : queue_(queue), interval_(interval), thread_([this] { run(); }) {}
 
 LeaseRescuer::~LeaseRescuer() {
   {
@@ -22,7 +22,7 @@ void LeaseRescuer::run() {
   std::unique_lock lock(mutex_);
   while (!wake_.wait_for(lock, interval_, [this] { return stop_; })) {
     try {
-      const int n = store_.requeue_expired(now_ms());
+      const int n = queue_.requeue_expired(now_ms());
       if (n > 0) spdlog::warn("lease rescuer: {} expired lease(s) returned to the queue", n);
     } catch (const std::exception& e) {
       spdlog::error("lease rescuer: {}", e.what());  // try again next interval

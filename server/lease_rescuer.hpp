@@ -1,5 +1,5 @@
 // The lease rescuer: a thread that, every interval, returns the jobs whose lease deadline passed
-// (the worker died or lost the network) to the queue via JobStore::requeue_expired.
+// (the worker died or lost the network) to the queue via QueueStore::requeue_expired.
 #pragma once
 
 #include <chrono>
@@ -7,13 +7,13 @@
 #include <mutex>
 #include <thread>
 
-#include "job_store.hpp"
+#include "queue_store.hpp"
 
 namespace compaction::server {
 
 class LeaseRescuer {
  public:
-  LeaseRescuer(JobStore& store, std::chrono::milliseconds interval);
+  LeaseRescuer(QueueStore& queue, std::chrono::milliseconds interval);
   ~LeaseRescuer();  // stops and joins the thread
   LeaseRescuer(const LeaseRescuer&) = delete;
   LeaseRescuer& operator=(const LeaseRescuer&) = delete;
@@ -21,7 +21,7 @@ class LeaseRescuer {
  private:
   void run();
 
-  JobStore& store_;
+  QueueStore& queue_;
   std::chrono::milliseconds interval_;
   std::mutex mutex_;
   std::condition_variable wake_;

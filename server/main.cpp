@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     config.lease_ms = static_cast<Millis>(options->lease_seconds * 1000);
     config.backoff_base_ms = static_cast<Millis>(options->retry_backoff_seconds * 1000);
     config.engine_version = compaction::engine_version();
-    JobStore store(options->db, config);
+    Store store(options->db, config);
 
     App app{store, *options, {}, {}};
     app.limits.max_points = static_cast<std::size_t>(options->max_sweep_points);
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
       std::filesystem::rename(tmp, options->port_file);
     }
 
-    LeaseRescuer rescuer(store, std::chrono::milliseconds(
+    LeaseRescuer rescuer(store.queue, std::chrono::milliseconds(
                                     static_cast<long>(options->rescue_interval_seconds * 1000)));
     std::atomic<bool> signalled{false};
     std::thread signal_thread([&server, &signalled, signals] {

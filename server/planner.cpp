@@ -220,6 +220,15 @@ std::string job_identity(const SceneParams& p, const std::string& engine_version
   return engine_version + "|" + canonical_scene(p);
 }
 
+NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version) {
+  NewSweep out{plan.name, plan.request.dump(), plan.priority, plan.max_attempts, {}};
+  for (const SceneParams& p : plan.scenes) {
+    out.jobs.push_back({job_identity(p, engine_version), canonical_scene(p), p.S, p.R, p.phi,
+                        p.eps_final(), p.cells_per_unit});
+  }
+  return out;
+}
+
 SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
   if (!body.is_object()) invalid("body", "must be a JSON object", 400);
   for (const auto& [key, value] : body.items()) {

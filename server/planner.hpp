@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compaction/params.hpp"
+#include "sweep_store.hpp"
 
 namespace compaction::server {
 
@@ -39,6 +40,10 @@ struct SweepPlan {
 };
 
 SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {});
+
+// The rows the sweep store writes for a plan, each job's identity made with the engine version
+// the new jobs are queued for.
+NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version);
 
 // Values of one grid axis: a number, an array of numbers, or {"min","max","n","scale"}.
 // Throws ApiError naming `field` (e.g. "S.n").

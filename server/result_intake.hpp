@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "compaction/bundle.hpp"
-#include "job_store.hpp"
+#include "queue_store.hpp"
 
 namespace compaction::server {
 

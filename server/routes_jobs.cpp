@@ -3,6 +3,7 @@
 #include "endpoints.hpp"
 #include "http_util.hpp"
 #include "result_intake.hpp"
+#include "views.hpp"
 
 namespace compaction::server {
 
@@ -21,27 +22,22 @@ void register_job_routes(httplib::Server& server, App& app) {
     f.phi = query_number(req, "phi");
     f.limit = query_int(req, "limit", 100, 1, 1000);
     f.offset = query_int(req, "offset", 0, 0, 1000000000);
-    send_json(res, 200, app.store.list_jobs(f));
+    send_json(res, 200, views::jobs(app.store.reads.jobs(f), f.limit, f.offset));
   });
 
   add_route(server, endpoints::show_job,
              [&app](const httplib::Request& req, httplib::Response& res) {
-               const auto j = app.store.job(path_id(req, 1, "job"));
+               const auto j = app.store.reads.job(path_id(req, 1, "job"));
                if (!j) throw ApiError(404, "id", "no such job");
-               send_json(res, 200, *j);
+               send_json(res, 200, views::job_detail(*j));
              });
 
   add_route(server, endpoints::list_artifacts,
              [&app](const httplib::Request& req, httplib::Response& res) {
                const std::int64_t id = path_id(req, 1, "job");
-               const auto list = app.store.list_artifacts(id);
+               const auto list = app.store.reads.artifacts(id);
                if (!list) throw ApiError(404, "id", "no such job");
-               json out = {{"job_id", id}, {"artifacts", *list}};
-               for (auto& a : out["artifacts"]) {
-                 a["url"] = "/api/v1/jobs/" + std::to_string(id) + "/artifacts/" +
-                            a["name"].get<std::string>();
-               }
-               send_json(res, 200, out);
+               send_json(res, 200, views::artifacts(id, *list));
              });
 
   add_route(server, endpoints::artifact,
@@ -49,7 +45,7 @@ void register_job_routes(httplib::Server& server, App& app) {
                const std::int64_t id = path_id(req, 1, "job");
                const std::string name = req.matches[2];
                if (!valid_artifact_name(name)) throw ApiError(404, "name", "no such artifact");
-               const auto a = app.store.artifact(id, name);
+               const auto a = app.store.reads.artifact(id, name);
                if (!a) throw ApiError(404, "name", "no such artifact for job " + std::to_string(id));
                res.status = 200;
                res.set_content(a->data, a->content_type.c_str());
@@ -59,7 +55,7 @@ void register_job_routes(httplib::Server& server, App& app) {
              [&app](const httplib::Request& req, httplib::Response& res) {
                const auto phi = query_number(req, "phi");
                if (!phi) throw ApiError(422, "phi", "is required (e.g. ?phi=0.4)");
-               send_json(res, 200, app.store.phase_map(*phi, query_id(req, "sweep")));
+               send_json(res, 200, views::phase_map(*phi, app.store.reads.phase_map(*phi, query_id(req, "sweep"))));
              });
 }
 

@@ -35,7 +35,7 @@ void lease(App& app, const httplib::Request& req, httplib::Response& res) {
   for (const auto& [key, value] : body.items()) {
     if (key != "worker" && key != "engine_version") throw ApiError(422, key, "unknown key");
   }
-  const auto lease = app.store.lease(worker, version, now_ms());
+  const auto lease = app.store.queue.lease(worker, version, now_ms());
   if (!lease) {
     res.status = 204;  // nothing to do now
     return;
@@ -66,7 +66,7 @@ void heartbeat(App& app, const httplib::Request& req, httplib::Response& res) {
     eps = e.get<double>();
   }
   Millis deadline = 0;
-  check_lease(app.store.heartbeat(id, token, eps, now_ms(), deadline));
+  check_lease(app.store.queue.heartbeat(id, token, eps, now_ms(), deadline));
   send_json(res, 200, {{"lease_deadline", deadline}});
 }
 
@@ -75,8 +75,8 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   if (!req.has_file("lease_token")) throw ApiError(422, "lease_token", "is required");
   if (!req.has_file("summary")) throw ApiError(422, "summary", "is required");
   const std::string token = req.get_file_value("lease_token").content;
-  check_lease(app.store.check_lease(id, token));
-  const auto job = app.store.job_scene(id);
+  check_lease(app.store.queue.check_lease(id, token));
+  const auto job = app.store.queue.job_scene(id);
   if (!job) throw ApiError(404, "id", "no such job");
   std::vector<UploadedFile> files;
   for (const auto& [name, part] : req.files) {
@@ -89,7 +89,7 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   }
   ResultRecord r = intake_result(req.get_file_value("summary").content, job->first,
                                  job->second, std::move(files));
-  check_lease(app.store.complete(id, token, r, now_ms()));
+  check_lease(app.store.queue.complete(id, token, r, now_ms()));
   spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
                r.cls.value_or("-"), r.artifacts.size());
   send_json(res, 200, {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}});
@@ -105,7 +105,7 @@ void fail(App& app, const httplib::Request& req, httplib::Response& res) {
     if (!body["retryable"].is_boolean()) throw ApiError(422, "retryable", "must be true or false");
     retryable = body["retryable"].get<bool>();
   }
-  const FailOutcome out = app.store.fail(id, token, reason, retryable, now_ms());
+  const FailOutcome out = app.store.queue.fail(id, token, reason, retryable, now_ms());
   check_lease(out.check);
   spdlog::warn("job failed id={} retryable={} now={} reason=\"{}\"", id, retryable,
                to_string(out.state), log_escape(reason, 500));
@@ -115,7 +115,7 @@ void fail(App& app, const httplib::Request& req, httplib::Response& res) {
 void release(App& app, const httplib::Request& req, httplib::Response& res) {
   const std::int64_t id = path_id(req, 1, "job");
   const json body = parse_json_body(req);
-  check_lease(app.store.release(id, lease_token(body), now_ms()));
+  check_lease(app.store.queue.release(id, lease_token(body), now_ms()));
   spdlog::info("job released id={}", id);
   send_json(res, 200, {{"job_id", id}, {"state", "queued"}});
 }

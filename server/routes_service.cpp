@@ -20,7 +20,7 @@ using nlohmann::json;
 
 void register_service_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::health, [&app](const httplib::Request&, httplib::Response& res) {
-    const StoreMetrics m = app.store.metrics();  // touches the database: a real check
+    const StoreMetrics m = app.store.reads.metrics();  // touches the database: a real check
     json jobs = json::object();
     for (const auto& [state, n] : m.jobs_by_state) jobs[state] = n;
     send_json(res, 200,
@@ -32,7 +32,7 @@ void register_service_routes(httplib::Server& server, App& app) {
 
   auto metrics = [&app](const httplib::Request&, httplib::Response& res) {
     res.status = 200;
-    res.set_content(render_metrics(app.store.metrics(), app.requests),
+    res.set_content(render_metrics(app.store.reads.metrics(), app.requests),
                     "text/plain; version=0.0.4");
   };
   add_route(server, endpoints::metrics, metrics);

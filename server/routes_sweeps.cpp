@@ -8,6 +8,7 @@
 #include "endpoints.hpp"
 #include "http_util.hpp"
 #include "safe_text.hpp"
+#include "views.hpp"
 
 namespace compaction::server {
 
@@ -56,13 +57,11 @@ void register_sweep_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::create_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
     const json body = parse_json_body(req);
     const SweepPlan plan = plan_sweep(body, app.limits);
-    const CreatedSweep c = app.store.create_sweep(plan, now_ms());
+    const CreatedSweep c =
+        app.store.sweeps.create(sweep_rows(plan, app.store.config().engine_version), now_ms());
     spdlog::info("sweep created id={} name=\"{}\" jobs={} new={} reused={} shared={} requeued={}",
                  c.id, log_escape(plan.name), c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
-    json out = *app.store.sweep(c.id);
-    out["created"] = {{"jobs", c.n_jobs},     {"new", c.n_new},
-                      {"reused", c.n_reused}, {"shared", c.n_shared},
-                      {"requeued", c.n_requeued}, {"preset", plan.preset}};
+    const json out = views::created_sweep(*app.store.reads.sweep(c.id), c, plan.preset);
     res.set_header("Location", "/api/v1/sweeps/" + std::to_string(c.id));
     send_json(res, 201, out);
   });
@@ -70,14 +69,14 @@ void register_sweep_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::list_sweeps, [&app](const httplib::Request& req, httplib::Response& res) {
     const int limit = query_int(req, "limit", 100, 1, 1000);
     const int offset = query_int(req, "offset", 0, 0, 1000000000);
-    send_json(res, 200, app.store.list_sweeps(limit, offset));
+    send_json(res, 200, views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset));
   });
 
   add_route(server, endpoints::show_sweep,
              [&app](const httplib::Request& req, httplib::Response& res) {
-               const auto s = app.store.sweep(path_id(req, 1, "sweep"));
+               const auto s = app.store.reads.sweep(path_id(req, 1, "sweep"));
                if (!s) throw ApiError(404, "id", "no such sweep");
-               send_json(res, 200, *s);
+               send_json(res, 200, views::sweep(*s));
              });
 
   add_route(server, endpoints::cancel_sweep,
@@ -91,11 +90,10 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                     throw ApiError(422, valid_utf8(key.substr(0, 100)), "unknown key");
                   }
                 }
-                const auto out = app.store.cancel_sweep(id, now_ms());
-                if (!out) throw ApiError(404, "id", "no such sweep");
-                spdlog::info("sweep cancelled id={} jobs_cancelled={}", id,
-                             (*out)["cancelled_jobs"].get<std::int64_t>());
-                send_json(res, 200, *out);
+                const auto cancelled = app.store.sweeps.cancel(id, now_ms());
+                if (!cancelled) throw ApiError(404, "id", "no such sweep");
+                spdlog::info("sweep cancelled id={} jobs_cancelled={}", id, *cancelled);
+                send_json(res, 200, views::cancelled_sweep(id, *cancelled));
               });
 
   add_route(server, endpoints::export_sweep,
@@ -106,16 +104,16 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                if (format != "json" && format != "csv") {
                  throw ApiError(422, "format", "must be \"json\" or \"csv\"");
                }
-               const auto sweep = app.store.sweep(id);
-               const auto rows = app.store.sweep_results(id);
+               const auto sweep = app.store.reads.sweep(id);
+               const auto rows = app.store.reads.sweep_jobs(id);
                if (!sweep || !rows) throw ApiError(404, "id", "no such sweep");
                const std::string file = "sweep-" + std::to_string(id) + "." + format;
                res.set_header("Content-Disposition", "attachment; filename=\"" + file + "\"");
                if (format == "csv") {
                  res.status = 200;
-                 res.set_content(export_csv(*rows), "text/csv");
+                 res.set_content(export_csv(views::sweep_jobs(*rows)), "text/csv");
                } else {
-                 send_json(res, 200, {{"sweep", *sweep}, {"jobs", *rows}});
+                 send_json(res, 200, {{"sweep", views::sweep(*sweep)}, {"jobs", views::sweep_jobs(*rows)}});
                }
              });
 }

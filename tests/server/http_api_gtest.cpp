@@ -23,7 +23,7 @@ const std::string worker = "worker-secret";
 
 struct ApiTest : ::testing::Test {
   TempDir dir;
-  std::unique_ptr<JobStore> store;
+  std::unique_ptr<Store> store;
   std::unique_ptr<App> app;
   HttpServer server;
   std::thread thread;
@@ -32,7 +32,7 @@ struct ApiTest : ::testing::Test {
   void SetUp() override {
     StoreConfig c;
     c.engine_version = compaction::engine_version();
-    store = std::make_unique<JobStore>(dir.file("api.db"), c);
+    store = std::make_unique<Store>(dir.file("api.db"), c);
     ServerOptions o;
     o.submit_token = submit;
     o.worker_token = worker;
@@ -140,7 +140,7 @@ TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
       {"the solid column", "POST", "/api/v1/sweeps", R"({"name": "x", "points": [{"S": 0.05, "R": 0.001, "phi": 1.0}]})", submit, 422, "points[0].phi"},
       {"more snapshots than an upload can take", "POST", "/api/v1/sweeps", R"({"name": "x", )" + pt + R"(, "numerics": {"snapshot_eps": [)" + [] { std::string v; for (int i = 0; i < 100; ++i) v += (i ? ", " : "") + std::to_string(0.005 * (i + 1)); return v; }() + "], \"cells_per_unit\": 40}}", submit, 422, "numerics.snapshot_eps"},
   };
-  const std::string before = store->fingerprint();
+  const std::string before = store->reads.fingerprint();
   for (const BadCase& c : cases) {
     httplib::Headers h;
     if (!c.token.empty()) h = auth(c.token);
@@ -152,7 +152,7 @@ TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
     ASSERT_TRUE(body.is_object()) << c.what << ": " << r->body;
     EXPECT_EQ(body["error"]["field"], c.field) << c.what << ": " << r->body;
     EXPECT_FALSE(body["error"]["message"].get<std::string>().empty()) << c.what;
-    EXPECT_EQ(store->fingerprint(), before) << c.what << " changed the database";
+    EXPECT_EQ(store->reads.fingerprint(), before) << c.what << " changed the database";
   }
 }
 
@@ -179,10 +179,10 @@ TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
   };
   auto wrong = items;
   wrong[0].content = "stale";
-  const std::string before = store->fingerprint();
+  const std::string before = store->reads.fingerprint();
   auto stale = client->Post((path + "/complete").c_str(), auth(worker), wrong);
   EXPECT_EQ(stale->status, 409) << stale->body;
-  EXPECT_EQ(store->fingerprint(), before);
+  EXPECT_EQ(store->reads.fingerprint(), before);
 
   auto done = client->Post((path + "/complete").c_str(), auth(worker), items);
   ASSERT_EQ(done->status, 200) << done->body;
@@ -207,7 +207,7 @@ TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
 
 TEST_F(ApiTest, RefusesFromTheHeadersAForeignOriginAWrongContentTypeAndAnOversizedBody) {
   const std::string body = R"({"name": "x", "points": [{"S": 0.05, "R": 0.001, "phi": 0.4}]})";
-  const std::string before = store->fingerprint();
+  const std::string before = store->reads.fingerprint();
   auto foreign = client->Post("/api/v1/sweeps",
                               {{"Authorization", "Bearer " + submit}, {"Origin", "http://evil.example"}},
                               body, "application/json");
@@ -220,7 +220,7 @@ TEST_F(ApiTest, RefusesFromTheHeadersAForeignOriginAWrongContentTypeAndAnOversiz
   ASSERT_TRUE(big);
   EXPECT_EQ(big->status, 413);
   EXPECT_EQ(json::parse(big->body)["error"]["field"], "body");
-  EXPECT_EQ(store->fingerprint(), before);
+  EXPECT_EQ(store->reads.fingerprint(), before);
   // The server answers the next request on a new connection as usual.
   EXPECT_EQ(client->Get("/api/v1/health")->status, 200);
 }
@@ -229,7 +229,7 @@ TEST_F(ApiTest, AnUploadWithABadFileOrFieldNameNamesItAndStoresNothing) {
   create_sweep();
   const json l = lease();
   const std::string path = "/api/v1/jobs/" + std::to_string(l["job_id"].get<int>()) + "/complete";
-  const std::string before = store->fingerprint();
+  const std::string before = store->reads.fingerprint();
   compaction::SceneParams p;
   ASSERT_TRUE(compaction::from_json(l["scene"], p).empty());
   const json summary = compaction::summary_json(p, compaction::RunResult{});
@@ -244,7 +244,7 @@ TEST_F(ApiTest, AnUploadWithABadFileOrFieldNameNamesItAndStoresNothing) {
   auto field = client->Post(path.c_str(), auth(worker), items);
   EXPECT_EQ(field->status, 422) << field->body;
   EXPECT_EQ(json::parse(field->body)["error"]["field"].get<std::string>().rfind("form[", 0), 0u);
-  EXPECT_EQ(store->fingerprint(), before);
+  EXPECT_EQ(store->reads.fingerprint(), before);
 }
 
 TEST_F(ApiTest, AnInternalErrorSaysNothingButAnIdThatIsInTheLog) {

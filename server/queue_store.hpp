@@ -1,0 +1,91 @@
+// The job queue: leases with tokens and deadlines, heartbeats, completion with the result and
+// its artifacts, failure with retries, release, and the rescue of expired leases. Every change
+// is one guarded UPDATE in a write transaction (`WHERE id = ? AND state = 'running' AND
+// lease_token = ?`), so zero rows changed means the lease was lost (job_states.hpp lists who
+// moves a job where). "Now" is a parameter of every call, so tests control the clock.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "job_states.hpp"
+#include "store_db.hpp"
+
+namespace compaction::server {
+
+struct Lease {
+  std::int64_t job_id = 0;
+  std::string token;
+  Millis deadline = 0;
+  std::string scene;   // canonical scene JSON
+  int attempt = 0;
+  int max_attempts = 0;
+};
+
+// What a worker's upload becomes (checked by result_intake before it gets here).
+struct Artifact {
+  std::string name;
+  std::string content_type;
+  std::string data;
+};
+struct ResultRecord {
+  std::string status;  // "ok" or "unstable"
+  std::string reason;
+  std::string scene;   // the parameters the run used (canonical JSON)
+  std::string engine_version;
+  std::string source_revision;
+  std::optional<std::string> cls, runner_up;
+  std::optional<double> confidence, band_speed_ratio, eps_reached, wall_seconds;
+  std::optional<std::int64_t> n_reflections;
+  std::optional<std::string> features;  // JSON
+  std::string summary;                  // summary.json as uploaded
+  std::vector<Artifact> artifacts;
+};
+
+enum class LeaseCheck {
+  ok,
+  unknown_job,  // no such job
+  lost,         // the token is not the live lease of a running job (stale, expired, cancelled)
+};
+
+struct FailOutcome {
+  LeaseCheck check = LeaseCheck::ok;
+  JobState state = JobState::failed;  // queued again (retry) or failed
+  Millis run_after = 0;
+};
+
+class QueueStore {
+ public:
+  explicit QueueStore(StoreDb& db) : db_(db) {}
+
+  // Takes the best queued job (priority, then age) of this engine version.
+  std::optional<Lease> lease(const std::string& worker, const std::string& engine_version,
+                             Millis now);
+  LeaseCheck heartbeat(std::int64_t job_id, const std::string& token, double eps, Millis now,
+                       Millis& deadline);
+  // Writes the artifact files (outside the write lock), then the result and its artifact rows
+  // in one transaction.
+  LeaseCheck complete(std::int64_t job_id, const std::string& token, const ResultRecord& r,
+                      Millis now);
+  FailOutcome fail(std::int64_t job_id, const std::string& token, const std::string& reason,
+                   bool retryable, Millis now);
+  // The worker gives the job back (it is stopping): queued at once, the attempt not counted.
+  LeaseCheck release(std::int64_t job_id, const std::string& token, Millis now);
+  // Whether token is the live lease of the job now (a cheap check before reading an upload;
+  // complete() checks again inside its transaction).
+  LeaseCheck check_lease(std::int64_t job_id, const std::string& token);
+  // The lease rescuer: running jobs whose deadline passed go back to the queue (or to failed
+  // when their attempts are used up). Returns the number of jobs moved.
+  int requeue_expired(Millis now);
+  // The canonical scene and engine version of a job (to check an upload against them).
+  std::optional<std::pair<std::string, std::string>> job_scene(std::int64_t job_id);
+
+ private:
+  Millis backoff(int attempts) const;
+
+  StoreDb& db_;
+};
+
+}  // namespace compaction::server

@@ -1,0 +1,48 @@
+// The database behind the stores: one writer connection (its mutex: one writing thread at a
+// time, each write one BEGIN IMMEDIATE transaction), a pool of read-only connections (each
+// read its own read transaction, so reads never wait for a write or for each other), the
+// artifact files, and the job event log every transition writes into.
+// Only the stores (queue_store, sweep_store, store_reads) and migrations hold SQL.
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "artifact_files.hpp"
+#include "sqlite.hpp"
+
+namespace compaction::server {
+
+using Millis = std::int64_t;  // milliseconds since the Unix epoch
+
+struct StoreConfig {
+  Millis lease_ms = 60'000;          // a lease lasts this long after a lease or heartbeat
+  Millis backoff_base_ms = 5'000;    // retry n waits base * 2^(n-1), capped at backoff_max_ms
+  Millis backoff_max_ms = 600'000;
+  std::string engine_version;        // the version the identity of new jobs carries
+};
+
+// The event log keeps this many of the newest events per job (older ones are counted in the
+// job's events_dropped); a job that is leased and given back forever cannot grow it.
+constexpr int max_events_per_job = 50;
+
+struct StoreDb {
+  // Opens the database, applies the pending migrations and removes artifact folders that no
+  // committed row names.
+  StoreDb(const std::string& path, StoreConfig config);
+
+  StoreConfig config;
+  std::mutex write_mutex;
+  sqlite::Database writer;
+  sqlite::ReaderPool readers;
+  ArtifactFiles files;
+};
+
+// Appends an event to a job's log inside the caller's write transaction, counts it in the
+// totals by kind, and drops the job's events beyond max_events_per_job.
+void log_event(sqlite::Database& writer, std::int64_t job_id, Millis at, const char* kind,
+               int attempt, const std::optional<std::string>& worker, const std::string& message);
+
+}  // namespace compaction::server

@@ -1,0 +1,297 @@
+#include "store_reads.hpp"
+
+namespace compaction::server {
+
+namespace {
+
+// The columns of a job with its result, in the order read_job reads them.
+constexpr const char* job_columns =
+    "j.id, j.state, j.S, j.R, j.phi, j.cells_per_unit, j.eps_end, j.engine_version, j.scene,"
+    " j.priority, j.attempts, j.max_attempts, j.worker, j.progress_eps, j.created_at,"
+    " j.started_at, j.heartbeat_at, j.finished_at, j.run_after, j.lease_deadline, j.last_error,"
+    " r.status, r.reason, r.class, r.confidence, r.runner_up, r.n_reflections,"
+    " r.band_speed_ratio, r.features, r.engine_version, r.source_revision, r.eps_reached,"
+    " r.wall_seconds, r.worker, r.created_at";
+
+JobRecord read_job(sqlite::Statement& s) {
+  JobRecord j;
+  j.id = s.int64(0);
+  j.state = s.text(1);
+  j.S = s.real(2);
+  j.R = s.real(3);
+  j.phi = s.real(4);
+  j.cells_per_unit = s.int64(5);
+  j.eps_end = s.real(6);
+  j.engine_version = s.text(7);
+  j.scene = s.text(8);
+  j.priority = s.int64(9);
+  j.attempts = s.int64(10);
+  j.max_attempts = s.int64(11);
+  j.worker = s.opt_text(12);
+  j.progress_eps = s.opt_real(13);
+  j.created_at = s.int64(14);
+  j.started_at = s.opt_int64(15);
+  j.heartbeat_at = s.opt_int64(16);
+  j.finished_at = s.opt_int64(17);
+  j.run_after = s.int64(18);
+  j.lease_deadline = s.opt_int64(19);
+  j.last_error = s.opt_text(20);
+  if (!s.is_null(21)) {
+    StoredResult r;
+    r.status = s.text(21);
+    r.reason = s.text(22);
+    r.cls = s.opt_text(23);
+    r.confidence = s.opt_real(24);
+    r.runner_up = s.opt_text(25);
+    r.n_reflections = s.opt_int64(26);
+    r.band_speed_ratio = s.opt_real(27);
+    r.features = s.opt_text(28);
+    r.engine_version = s.text(29);
+    r.source_revision = s.text(30);
+    r.eps_reached = s.opt_real(31);
+    r.wall_seconds = s.opt_real(32);
+    r.worker = s.text(33);
+    r.created_at = s.int64(34);
+    j.result = std::move(r);
+  }
+  return j;
+}
+
+StateCounts counts_of_sweep(sqlite::Database& db, std::int64_t id) {
+  auto s = db.prepare(
+      "SELECT j.state, count(*) FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
+      " WHERE sj.sweep_id = ? GROUP BY j.state");
+  s.bind(1, id);
+  StateCounts c;
+  while (s.step()) {
+    const auto state = parse_job_state(s.text(0));
+    const std::int64_t n = s.int64(1);
+    if (!state) continue;  // the schema's CHECK allows no other state
+    switch (*state) {
+      case JobState::queued: c.queued = n; break;
+      case JobState::running: c.running = n; break;
+      case JobState::succeeded: c.succeeded = n; break;
+      case JobState::failed: c.failed = n; break;
+      case JobState::cancelled: c.cancelled = n; break;
+    }
+  }
+  return c;
+}
+
+// columns: id, name, request, priority, created_at, cancelled_at
+constexpr const char* sweep_columns = "id, name, request, priority, created_at, cancelled_at";
+
+SweepRecord read_sweep(sqlite::Statement& s, sqlite::Database& db) {
+  SweepRecord r;
+  r.id = s.int64(0);
+  r.name = s.text(1);
+  r.request = s.text(2);
+  r.priority = s.int64(3);
+  r.created_at = s.int64(4);
+  r.cancelled_at = s.opt_int64(5);
+  r.counts = counts_of_sweep(db, r.id);
+  return r;
+}
+
+}  // namespace
+
+std::optional<SweepRecord> StoreReads::sweep(std::int64_t id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(std::string("SELECT ") + sweep_columns + " FROM sweeps WHERE id = ?");
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  return read_sweep(s, *db);
+}
+
+Page<SweepRecord> StoreReads::sweeps(int limit, int offset) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(std::string("SELECT ") + sweep_columns +
+                       " FROM sweeps ORDER BY id DESC LIMIT ? OFFSET ?");
+  s.bind(1, limit).bind(2, offset);
+  Page<SweepRecord> page;
+  while (s.step()) page.items.push_back(read_sweep(s, *db));
+  auto n = db->prepare("SELECT count(*) FROM sweeps");
+  n.step();
+  page.total = n.int64(0);
+  return page;
+}
+
+std::optional<std::vector<JobRecord>> StoreReads::sweep_jobs(std::int64_t id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto exists = db->prepare("SELECT 1 FROM sweeps WHERE id = ?");
+  exists.bind(1, id);
+  if (!exists.step()) return std::nullopt;
+  auto s = db->prepare(std::string("SELECT ") + job_columns +
+                       " FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
+                       " LEFT JOIN results r ON r.job_id = j.id"
+                       " WHERE sj.sweep_id = ? ORDER BY sj.position");
+  s.bind(1, id);
+  std::vector<JobRecord> rows;
+  while (s.step()) rows.push_back(read_job(s));
+  return rows;
+}
+
+Page<JobRecord> StoreReads::jobs(const JobFilter& f) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  // Absent filters bind NULL and match everything; phi matches within 1e-9.
+  const std::string where =
+      " WHERE (?1 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?1))"
+      " AND (?2 IS NULL OR j.state = ?2) AND (?3 IS NULL OR abs(j.phi - ?3) < 1e-9)";
+  auto bind_filters = [&](sqlite::Statement& s) {
+    s.bind(1, f.sweep_id);
+    if (f.state) {
+      s.bind(2, to_string(*f.state));
+    } else {
+      s.bind_null(2);
+    }
+    s.bind(3, f.phi);
+  };
+  auto s = db->prepare(std::string("SELECT ") + job_columns +
+                       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id" + where +
+                       " ORDER BY j.id LIMIT ?4 OFFSET ?5");
+  bind_filters(s);
+  s.bind(4, f.limit).bind(5, f.offset);
+  Page<JobRecord> page;
+  while (s.step()) page.items.push_back(read_job(s));
+  auto n = db->prepare("SELECT count(*) FROM jobs j" + where);
+  bind_filters(n);
+  n.step();
+  page.total = n.int64(0);
+  return page;
+}
+
+std::optional<JobDetail> StoreReads::job(std::int64_t id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(std::string("SELECT ") + job_columns +
+                       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id WHERE j.id = ?");
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  JobDetail d;
+  d.job = read_job(s);
+  auto sweeps = db->prepare("SELECT sweep_id FROM sweep_jobs WHERE job_id = ? ORDER BY sweep_id");
+  sweeps.bind(1, id);
+  while (sweeps.step()) d.sweeps.push_back(sweeps.int64(0));
+  auto events = db->prepare(
+      "SELECT at, kind, attempt, worker, message FROM job_events WHERE job_id = ? ORDER BY id");
+  events.bind(1, id);
+  while (events.step()) {
+    d.events.push_back({events.int64(0), events.text(1), events.int64(2), events.opt_text(3),
+                        events.text(4)});
+  }
+  auto dropped = db->prepare("SELECT events_dropped FROM jobs WHERE id = ?");
+  dropped.bind(1, id);
+  if (dropped.step()) d.events_dropped = dropped.int64(0);
+  if (d.job.result) {
+    auto summary = db->prepare("SELECT summary FROM results WHERE job_id = ?");
+    summary.bind(1, id);
+    if (summary.step()) d.summary = summary.text(0);
+  }
+  return d;
+}
+
+std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::int64_t> sweep_id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
+      "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
+      " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps"
+      " FROM jobs j LEFT JOIN results r ON r.job_id = j.id"
+      " WHERE abs(j.phi - ?1) < 1e-9"
+      " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
+      " ORDER BY j.S, j.R, j.id");
+  s.bind(1, phi).bind(2, sweep_id);
+  std::vector<PhaseMapPoint> points;
+  while (s.step()) {
+    PhaseMapPoint p;
+    p.S = s.real(0);
+    p.R = s.real(1);
+    p.phi = s.real(2);
+    p.state = s.text(3);
+    p.cls = s.opt_text(4);
+    p.confidence = s.opt_real(5);
+    p.runner_up = s.opt_text(6);
+    p.n_reflections = s.opt_int64(7);
+    p.band_speed_ratio = s.opt_real(8);
+    p.job_id = s.int64(9);
+    p.status = s.opt_text(10);
+    p.cells_per_unit = s.int64(11);
+    p.eps_end = s.real(12);
+    p.progress_eps = s.opt_real(13);
+    points.push_back(std::move(p));
+  }
+  return points;
+}
+
+std::optional<std::vector<ArtifactInfo>> StoreReads::artifacts(std::int64_t job_id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto exists = db->prepare("SELECT 1 FROM jobs WHERE id = ?");
+  exists.bind(1, job_id);
+  if (!exists.step()) return std::nullopt;
+  auto s = db->prepare(
+      "SELECT name, content_type, size FROM artifacts WHERE job_id = ? ORDER BY name");
+  s.bind(1, job_id);
+  std::vector<ArtifactInfo> out;
+  while (s.step()) out.push_back({s.text(0), s.text(1), s.int64(2)});
+  return out;
+}
+
+std::optional<Artifact> StoreReads::artifact(std::int64_t job_id, const std::string& name) {
+  std::optional<std::string> path;
+  Artifact a;
+  {
+    auto db = db_.readers.take();
+    sqlite::ReadTransaction read(*db);
+    auto s = db->prepare(
+        "SELECT name, content_type, data, path FROM artifacts WHERE job_id = ? AND name = ?");
+    s.bind(1, job_id).bind(2, name);
+    if (!s.step()) return std::nullopt;
+    a = {s.text(0), s.text(1), s.is_null(3) ? s.blob(2) : std::string()};
+    path = s.opt_text(3);
+  }
+  if (path) a.data = db_.files.read(*path);  // with no connection held
+  return a;
+}
+
+StoreMetrics StoreReads::metrics() {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  StoreMetrics m;
+  auto by_state = db->prepare("SELECT state, count(*) FROM jobs GROUP BY state ORDER BY state");
+  while (by_state.step()) m.jobs_by_state.emplace_back(by_state.text(0), by_state.int64(1));
+  auto by_kind = db->prepare("SELECT kind, total FROM event_totals ORDER BY kind");
+  while (by_kind.step()) m.events_by_kind.emplace_back(by_kind.text(0), by_kind.int64(1));
+  auto by_status =
+      db->prepare("SELECT status, count(*) FROM results GROUP BY status ORDER BY status");
+  while (by_status.step()) m.results_by_status.emplace_back(by_status.text(0), by_status.int64(1));
+  auto sweeps = db->prepare("SELECT count(*) FROM sweeps");
+  sweeps.step();
+  m.sweeps = sweeps.int64(0);
+  return m;
+}
+
+std::string StoreReads::fingerprint() {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  std::string out;
+  for (const char* q :
+       {"SELECT group_concat(id || state || attempts || coalesce(lease_token, '') ||"
+        " coalesce(lease_deadline, '') || run_after || priority, ';') FROM jobs",
+        "SELECT group_concat(id || name || coalesce(cancelled_at, ''), ';') FROM sweeps",
+        "SELECT group_concat(sweep_id || ':' || job_id, ';') FROM sweep_jobs",
+        "SELECT group_concat(job_id || status, ';') FROM results",
+        "SELECT group_concat(job_id || name || size, ';') FROM artifacts",
+        "SELECT count(*) FROM job_events"}) {
+    auto s = db->prepare(q);
+    s.step();
+    out += s.text(0) + "|";
+  }
+  return out;
+}
+
+}  // namespace compaction::server

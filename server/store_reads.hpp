@@ -1,0 +1,129 @@
+// Reads of the store as typed records (views.hpp shapes them for the REST API): sweeps with
+// their counts by state, jobs with their results, a job's events, the phase map's points,
+// artifacts, metrics. Each call is one read transaction on a read-only connection of its own.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "job_states.hpp"
+#include "queue_store.hpp"
+#include "store_db.hpp"
+
+namespace compaction::server {
+
+struct StateCounts {
+  std::int64_t queued = 0, running = 0, succeeded = 0, failed = 0, cancelled = 0;
+  std::int64_t total() const { return queued + running + succeeded + failed + cancelled; }
+  std::int64_t open() const { return queued + running; }
+};
+
+struct SweepRecord {
+  std::int64_t id = 0;
+  std::string name;
+  std::string request;  // JSON text
+  std::int64_t priority = 0;
+  Millis created_at = 0;
+  std::optional<Millis> cancelled_at;
+  StateCounts counts;
+};
+
+struct StoredResult {
+  std::string status, reason, engine_version, source_revision, worker;
+  std::optional<std::string> cls, runner_up, features;  // features: JSON text
+  std::optional<double> confidence, band_speed_ratio, eps_reached, wall_seconds;
+  std::optional<std::int64_t> n_reflections;
+  Millis created_at = 0;
+};
+
+struct JobRecord {
+  std::int64_t id = 0;
+  std::string state;
+  double S = 0, R = 0, phi = 0, eps_end = 0;
+  std::int64_t cells_per_unit = 0;
+  std::string engine_version;
+  std::string scene;  // JSON text
+  std::int64_t priority = 0, attempts = 0, max_attempts = 0;
+  std::optional<std::string> worker, last_error;
+  std::optional<double> progress_eps;
+  Millis created_at = 0, run_after = 0;
+  std::optional<Millis> started_at, heartbeat_at, finished_at, lease_deadline;
+  std::optional<StoredResult> result;
+};
+
+struct EventRecord {
+  Millis at = 0;
+  std::string kind;
+  std::int64_t attempt = 0;
+  std::optional<std::string> worker;
+  std::string message;
+};
+
+struct JobDetail {
+  JobRecord job;
+  std::vector<std::int64_t> sweeps;
+  std::vector<EventRecord> events;  // the newest max_events_per_job
+  std::int64_t events_dropped = 0;
+  std::optional<std::string> summary;  // summary.json of the result
+};
+
+struct PhaseMapPoint {
+  double S = 0, R = 0, phi = 0, eps_end = 0;
+  std::string state;
+  std::optional<std::string> cls, runner_up, status;
+  std::optional<double> confidence, band_speed_ratio, progress_eps;
+  std::optional<std::int64_t> n_reflections;
+  std::int64_t job_id = 0, cells_per_unit = 0;
+};
+
+struct ArtifactInfo {
+  std::string name, content_type;
+  std::int64_t size = 0;
+};
+
+struct JobFilter {
+  std::optional<std::int64_t> sweep_id;
+  std::optional<JobState> state;
+  std::optional<double> phi;
+  int limit = 100;
+  int offset = 0;
+};
+
+template <typename T>
+struct Page {
+  std::vector<T> items;
+  std::int64_t total = 0;
+};
+
+struct StoreMetrics {
+  std::vector<std::pair<std::string, std::int64_t>> jobs_by_state;
+  std::vector<std::pair<std::string, std::int64_t>> events_by_kind;  // every event ever logged
+  std::vector<std::pair<std::string, std::int64_t>> results_by_status;
+  std::int64_t sweeps = 0;
+};
+
+class StoreReads {
+ public:
+  explicit StoreReads(StoreDb& db) : db_(db) {}
+
+  std::optional<SweepRecord> sweep(std::int64_t id);
+  Page<SweepRecord> sweeps(int limit, int offset);
+  // Every job of the sweep with its result, in request order; nullopt: unknown sweep.
+  std::optional<std::vector<JobRecord>> sweep_jobs(std::int64_t id);
+  Page<JobRecord> jobs(const JobFilter& filter);
+  std::optional<JobDetail> job(std::int64_t id);
+  std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id);
+  std::optional<std::vector<ArtifactInfo>> artifacts(std::int64_t job_id);
+  std::optional<Artifact> artifact(std::int64_t job_id, const std::string& name);
+  StoreMetrics metrics();
+  // A fingerprint of every table's content (tests: "nothing changed in the database").
+  std::string fingerprint();
+
+ private:
+  StoreDb& db_;
+};
+
+}  // namespace compaction::server

@@ -1,0 +1,114 @@
+#include "sweep_store.hpp"
+
+#include <tuple>
+
+namespace compaction::server {
+
+CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
+  std::lock_guard lock(db_.write_mutex);
+  sqlite::Transaction tx(db_.writer);
+  CreatedSweep out;
+  db_.writer.prepare("INSERT INTO sweeps (name, request, priority, created_at) VALUES (?, ?, ?, ?)")
+      .bind(1, plan.name)
+      .bind(2, plan.request)
+      .bind(3, plan.priority)
+      .bind(4, now)
+      .run();
+  out.id = db_.writer.last_insert_rowid();
+
+  auto insert = db_.writer.prepare(
+      "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
+      " priority, max_attempts, run_after, created_at)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?11)"
+      " ON CONFLICT (identity) DO NOTHING");
+  auto find = db_.writer.prepare("SELECT id, state FROM jobs WHERE identity = ?");
+  // A job another sweep already holds: raise its priority to the highest that wants it.
+  auto raise = db_.writer.prepare("UPDATE jobs SET priority = max(priority, ?2) WHERE id = ?1");
+  // Failed or cancelled before: a new sweep asks again, with fresh attempts.
+  auto requeue = db_.writer.prepare(
+      "UPDATE jobs SET state = 'queued', attempts = 0, max_attempts = ?2, run_after = ?3,"
+      " priority = ?4, finished_at = NULL, progress_eps = NULL"
+      " WHERE id = ?1 AND state IN ('failed', 'cancelled')");
+  auto link = db_.writer.prepare(
+      "INSERT OR IGNORE INTO sweep_jobs (sweep_id, job_id, position) VALUES (?, ?, ?)");
+
+  std::int64_t position = 0;
+  for (const NewJob& p : plan.jobs) {
+    insert.reset();
+    insert.bind(1, p.identity)
+        .bind(2, p.scene)
+        .bind(3, db_.config.engine_version)
+        .bind(4, p.S)
+        .bind(5, p.R)
+        .bind(6, p.phi)
+        .bind(7, p.cells_per_unit)
+        .bind(8, p.eps_end)
+        .bind(9, plan.priority)
+        .bind(10, plan.max_attempts)
+        .bind(11, now)
+        .run();
+    const bool created = db_.writer.changes() > 0;
+    find.reset();
+    find.bind(1, p.identity);
+    if (!find.step()) throw sqlite::Error("job vanished during sweep creation");
+    const std::int64_t job_id = find.int64(0);
+    const std::string state = find.text(1);
+    find.reset();
+    if (created) {
+      ++out.n_new;
+    } else if (state == "succeeded") {
+      ++out.n_reused;
+    } else if (state == "failed" || state == "cancelled") {
+      requeue.reset();
+      requeue.bind(1, job_id).bind(2, plan.max_attempts).bind(3, now).bind(4, plan.priority).run();
+      log_event(db_.writer, job_id, now, "queued", 0, std::nullopt,
+                "requeued by sweep " + std::to_string(out.id) + " (was " + state + ")");
+      ++out.n_requeued;
+    } else {
+      raise.reset();
+      raise.bind(1, job_id).bind(2, plan.priority).run();
+      ++out.n_shared;
+    }
+    link.reset();
+    link.bind(1, out.id).bind(2, job_id).bind(3, position++).run();
+    ++out.n_jobs;
+  }
+  tx.commit();
+  return out;
+}
+
+std::optional<std::int64_t> SweepStore::cancel(std::int64_t id, Millis now) {
+  std::lock_guard lock(db_.write_mutex);
+  sqlite::Transaction tx(db_.writer);
+  auto exists = db_.writer.prepare("SELECT cancelled_at FROM sweeps WHERE id = ?");
+  exists.bind(1, id);
+  if (!exists.step()) return std::nullopt;
+  db_.writer.prepare("UPDATE sweeps SET cancelled_at = ?2 WHERE id = ?1 AND cancelled_at IS NULL")
+      .bind(1, id)
+      .bind(2, now)
+      .run();
+  // Jobs of this sweep that no other live sweep wants; a running one loses its lease (the
+  // worker hears 409 at its next heartbeat and stops the run).
+  auto victims = db_.writer.prepare(
+      "SELECT j.id, j.attempts, j.worker FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
+      " WHERE sj.sweep_id = ?1 AND j.state IN ('queued', 'running')"
+      " AND NOT EXISTS (SELECT 1 FROM sweep_jobs o JOIN sweeps w ON w.id = o.sweep_id"
+      "                 WHERE o.job_id = j.id AND o.sweep_id <> ?1 AND w.cancelled_at IS NULL)");
+  victims.bind(1, id);
+  std::vector<std::tuple<std::int64_t, int, std::optional<std::string>>> jobs;
+  while (victims.step()) {
+    jobs.emplace_back(victims.int64(0), static_cast<int>(victims.int64(1)), victims.opt_text(2));
+  }
+  auto cancel = db_.writer.prepare(
+      "UPDATE jobs SET state = 'cancelled', lease_token = NULL, lease_deadline = NULL,"
+      " finished_at = ?2 WHERE id = ?1 AND state IN ('queued', 'running')");
+  for (const auto& [job_id, attempt, worker] : jobs) {
+    cancel.reset();
+    cancel.bind(1, job_id).bind(2, now).run();
+    log_event(db_.writer, job_id, now, "cancelled", attempt, worker, "sweep " + std::to_string(id) + " cancelled");
+  }
+  tx.commit();
+  return static_cast<std::int64_t>(jobs.size());
+}
+
+}  // namespace compaction::server

@@ -1,0 +1,159 @@
+#include "views.hpp"
+
+#include <string>
+
+namespace compaction::server::views {
+
+using nlohmann::json;
+
+namespace {
+
+template <typename T>
+json opt(const std::optional<T>& v) {
+  return v ? json(*v) : json(nullptr);
+}
+
+json counts(const StateCounts& c) {
+  return {{"queued", c.queued},       {"running", c.running},     {"succeeded", c.succeeded},
+          {"failed", c.failed},       {"cancelled", c.cancelled}, {"total", c.total()}};
+}
+
+}  // namespace
+
+json sweep(const SweepRecord& s) {
+  const char* state = s.cancelled_at ? "cancelled" : s.counts.open() > 0 ? "active" : "done";
+  const std::int64_t total = s.counts.total();
+  const std::int64_t finished = total - s.counts.open();
+  return {{"id", s.id},
+          {"name", s.name},
+          {"request", json::parse(s.request)},
+          {"priority", s.priority},
+          {"created_at", s.created_at},
+          {"cancelled_at", opt(s.cancelled_at)},
+          {"state", state},
+          {"counts", counts(s.counts)},
+          {"progress", total > 0 ? static_cast<double>(finished) / total : 1.0}};
+}
+
+json sweeps(const Page<SweepRecord>& page, int limit, int offset) {
+  json out = json::array();
+  for (const SweepRecord& s : page.items) out.push_back(sweep(s));
+  return {{"sweeps", out}, {"total", page.total}, {"limit", limit}, {"offset", offset}};
+}
+
+json created_sweep(const SweepRecord& s, const CreatedSweep& c, const std::string& preset) {
+  json out = sweep(s);
+  out["created"] = {{"jobs", c.n_jobs},     {"new", c.n_new},
+                    {"reused", c.n_reused}, {"shared", c.n_shared},
+                    {"requeued", c.n_requeued}, {"preset", preset}};
+  return out;
+}
+
+json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs) {
+  return {{"id", id}, {"cancelled_jobs", cancelled_jobs}};
+}
+
+json job(const JobRecord& j) {
+  json out = {{"id", j.id},
+              {"state", j.state},
+              {"S", j.S},
+              {"R", j.R},
+              {"phi", j.phi},
+              {"cells_per_unit", j.cells_per_unit},
+              {"eps_end", j.eps_end},
+              {"engine_version", j.engine_version},
+              {"scene", json::parse(j.scene)},
+              {"priority", j.priority},
+              {"attempts", j.attempts},
+              {"max_attempts", j.max_attempts},
+              {"worker", opt(j.worker)},
+              {"progress_eps", opt(j.progress_eps)},
+              {"created_at", j.created_at},
+              {"started_at", opt(j.started_at)},
+              {"heartbeat_at", opt(j.heartbeat_at)},
+              {"finished_at", opt(j.finished_at)},
+              {"run_after", j.run_after},
+              {"lease_deadline", opt(j.lease_deadline)},
+              {"last_error", opt(j.last_error)},
+              {"result", nullptr}};
+  if (j.result) {
+    const StoredResult& r = *j.result;
+    out["result"] = {{"status", r.status},
+                     {"reason", r.reason},
+                     {"class", opt(r.cls)},
+                     {"confidence", opt(r.confidence)},
+                     {"runner_up", opt(r.runner_up)},
+                     {"n_reflections", opt(r.n_reflections)},
+                     {"band_speed_ratio", opt(r.band_speed_ratio)},
+                     {"features", r.features ? json::parse(*r.features) : json(nullptr)},
+                     {"engine_version", r.engine_version},
+                     {"source_revision", r.source_revision},
+                     {"eps_reached", opt(r.eps_reached)},
+                     {"wall_seconds", opt(r.wall_seconds)},
+                     {"worker", r.worker},
+                     {"created_at", r.created_at}};
+  }
+  return out;
+}
+
+json jobs(const Page<JobRecord>& page, int limit, int offset) {
+  json out = json::array();
+  for (const JobRecord& j : page.items) out.push_back(job(j));
+  return {{"jobs", out}, {"total", page.total}, {"limit", limit}, {"offset", offset}};
+}
+
+json job_detail(const JobDetail& d) {
+  json j = job(d.job);
+  j["sweeps"] = d.sweeps;
+  j["events"] = json::array();
+  for (const EventRecord& e : d.events) {
+    j["events"].push_back({{"at", e.at},
+                           {"kind", e.kind},
+                           {"attempt", e.attempt},
+                           {"worker", opt(e.worker)},
+                           {"message", e.message}});
+  }
+  j["events_dropped"] = d.events_dropped;
+  if (!j["result"].is_null() && d.summary) j["result"]["summary"] = json::parse(*d.summary);
+  return j;
+}
+
+json sweep_jobs(const std::vector<JobRecord>& rows) {
+  json out = json::array();
+  for (const JobRecord& j : rows) out.push_back(job(j));
+  return out;
+}
+
+json phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
+  json out = json::array();
+  for (const PhaseMapPoint& p : points) {
+    out.push_back({{"S", p.S},
+                   {"R", p.R},
+                   {"phi", p.phi},
+                   {"state", p.state},
+                   {"class", opt(p.cls)},
+                   {"confidence", opt(p.confidence)},
+                   {"runner_up", opt(p.runner_up)},
+                   {"n_reflections", opt(p.n_reflections)},
+                   {"band_speed_ratio", opt(p.band_speed_ratio)},
+                   {"job_id", p.job_id},
+                   {"status", opt(p.status)},
+                   {"cells_per_unit", p.cells_per_unit},
+                   {"eps_end", p.eps_end},
+                   {"progress_eps", opt(p.progress_eps)}});
+  }
+  return {{"phi", phi}, {"points", out}};
+}
+
+json artifacts(std::int64_t job_id, const std::vector<ArtifactInfo>& list) {
+  json out = json::array();
+  for (const ArtifactInfo& a : list) {
+    out.push_back({{"name", a.name},
+                   {"content_type", a.content_type},
+                   {"size", a.size},
+                   {"url", "/api/v1/jobs/" + std::to_string(job_id) + "/artifacts/" + a.name}});
+  }
+  return {{"job_id", job_id}, {"artifacts", out}};
+}
+
+}  // namespace compaction::server::views

@@ -1,0 +1,26 @@
+// The REST API's JSON documents, built from the store's records (store_reads.hpp): a change
+// of a field the API answers touches this file, never SQL.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "store_reads.hpp"
+#include "sweep_store.hpp"
+
+namespace compaction::server::views {
+
+nlohmann::json sweep(const SweepRecord& s);
+nlohmann::json sweeps(const Page<SweepRecord>& page, int limit, int offset);
+nlohmann::json created_sweep(const SweepRecord& s, const CreatedSweep& c, const std::string& preset);
+nlohmann::json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs);
+nlohmann::json job(const JobRecord& j);
+nlohmann::json jobs(const Page<JobRecord>& page, int limit, int offset);
+nlohmann::json job_detail(const JobDetail& d);
+nlohmann::json sweep_jobs(const std::vector<JobRecord>& rows);
+nlohmann::json phase_map(double phi, const std::vector<PhaseMapPoint>& points);
+nlohmann::json artifacts(std::int64_t job_id, const std::vector<ArtifactInfo>& list);
+
+}  // namespace compaction::server::views

@@ -1,0 +1,367 @@
+// The store: leases, heartbeats, expiry, completion with live tokens only, retries,
+// release, cancellation, reuse of identical parameters, the schema's state machine; the reads
+// as the API shows them (views.hpp).
+#include "store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "compaction/result.hpp"
+#include "migrations.hpp"
+#include "planner.hpp"
+#include "sqlite.hpp"
+#include "temp_dir.hpp"
+#include "views.hpp"
+
+using namespace compaction::server;
+using nlohmann::json;
+
+namespace {
+
+constexpr Millis t0 = 1'000'000;  // the tests' clock starts here
+constexpr Millis lease_ms = 10'000;
+
+StoreConfig config() {
+  StoreConfig c;
+  c.lease_ms = lease_ms;
+  c.backoff_base_ms = 1'000;
+  c.engine_version = "test-1";
+  return c;
+}
+
+NewSweep plan(const json& body) { return sweep_rows(plan_sweep(body), "test-1"); }
+
+// The reads as the REST API answers them.
+std::optional<json> job_of(Store& s, std::int64_t id) {
+  const auto d = s.reads.job(id);
+  return d ? std::optional<json>(views::job_detail(*d)) : std::nullopt;
+}
+std::optional<json> sweep_of(Store& s, std::int64_t id) {
+  const auto r = s.reads.sweep(id);
+  return r ? std::optional<json>(views::sweep(*r)) : std::nullopt;
+}
+json jobs_of(Store& s, const JobFilter& f) { return views::jobs(s.reads.jobs(f), f.limit, f.offset); }
+json phase_map_of(Store& s, double phi, std::optional<std::int64_t> sweep) {
+  return views::phase_map(phi, s.reads.phase_map(phi, sweep));
+}
+std::optional<json> cancel_of(Store& s, std::int64_t id, Millis now) {
+  const auto n = s.sweeps.cancel(id, now);
+  return n ? std::optional<json>(views::cancelled_sweep(id, *n)) : std::nullopt;
+}
+
+json points(std::initializer_list<double> S_values, int priority = 0) {
+  json body = {{"name", "t"}, {"points", json::array()}, {"priority", priority},
+               {"numerics", {{"cells_per_unit", 6}, {"eps_end", 0.02}}}};
+  for (double S : S_values) body["points"].push_back({{"S", S}, {"R", 1e-3}, {"phi", 0.4}});
+  return body;
+}
+
+ResultRecord result_for(Store& store, std::int64_t job_id, const std::string& status = "ok") {
+  ResultRecord r;
+  r.status = status;
+  r.reason = status == "ok" ? "" : "energy blew up";
+  r.scene = store.queue.job_scene(job_id)->first;
+  r.engine_version = "test-1";
+  r.source_revision = "abc";
+  r.cls = "a";
+  r.confidence = 0.9;
+  r.summary = "{}";
+  r.artifacts.push_back({"frames.csv", "text/csv", "eps\n0.01\n"});
+  return r;
+}
+
+struct StoreTest : ::testing::Test {
+  TempDir dir;
+  Store store{dir.file("jobs.db"), config()};
+};
+
+}  // namespace
+
+TEST_F(StoreTest, LeaseTakesTheHighestPriorityThenTheOldestJob) {
+  store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  store.sweeps.create(plan(points({0.03}, 5)), t0);
+  auto a = store.queue.lease("w", "test-1", t0);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(json::parse(a->scene)["S"], 0.03);
+  auto b = store.queue.lease("w", "test-1", t0);
+  EXPECT_EQ(json::parse(b->scene)["S"], 0.01);
+  EXPECT_NE(a->token, b->token);
+  EXPECT_EQ(a->deadline, t0 + lease_ms);
+  auto c = store.queue.lease("w", "test-1", t0);
+  ASSERT_TRUE(c);
+  EXPECT_FALSE(store.queue.lease("w", "test-1", t0)) << "the queue is empty";
+}
+
+TEST_F(StoreTest, LeaseOnlyHandsOutJobsOfTheWorkersEngineVersion) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  EXPECT_FALSE(store.queue.lease("w", "other-version", t0));
+  EXPECT_TRUE(store.queue.lease("w", "test-1", t0));
+}
+
+TEST_F(StoreTest, HeartbeatExtendsTheLeaseAndRecordsProgress) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  auto l = store.queue.lease("w", "test-1", t0);
+  Millis deadline = 0;
+  EXPECT_EQ(store.queue.heartbeat(l->job_id, l->token, 0.01, t0 + 5'000, deadline), LeaseCheck::ok);
+  EXPECT_EQ(deadline, t0 + 5'000 + lease_ms);
+  EXPECT_EQ(store.queue.requeue_expired(t0 + lease_ms + 1), 0) << "the heartbeat moved the deadline";
+  EXPECT_DOUBLE_EQ((*job_of(store, l->job_id))["progress_eps"].get<double>(), 0.01);
+  EXPECT_EQ(store.queue.heartbeat(l->job_id, "not-the-token", 0.01, t0, deadline), LeaseCheck::lost);
+  EXPECT_EQ(store.queue.heartbeat(999, l->token, 0.01, t0, deadline), LeaseCheck::unknown_job);
+}
+
+TEST_F(StoreTest, AnExpiredLeaseReturnsTheJobAndTheStaleTokenCanNeverComplete) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  auto first = store.queue.lease("dead-worker", "test-1", t0);
+  EXPECT_EQ(store.queue.requeue_expired(t0 + lease_ms), 0) << "not expired at the deadline itself";
+  EXPECT_EQ(store.queue.requeue_expired(t0 + lease_ms + 1), 1);
+  EXPECT_EQ((*job_of(store, first->job_id))["state"], "queued");
+
+  auto second = store.queue.lease("live-worker", "test-1", t0 + lease_ms + 2);
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->job_id, first->job_id);
+  EXPECT_EQ(second->attempt, 2);
+  const std::string before = store.reads.fingerprint();
+  EXPECT_EQ(store.queue.complete(first->job_id, first->token, result_for(store, first->job_id), t0),
+            LeaseCheck::lost);
+  Millis deadline = 0;
+  EXPECT_EQ(store.queue.heartbeat(first->job_id, first->token, 0.0, t0, deadline), LeaseCheck::lost);
+  EXPECT_EQ(store.queue.fail(first->job_id, first->token, "x", true, t0).check, LeaseCheck::lost);
+  EXPECT_EQ(store.queue.release(first->job_id, first->token, t0), LeaseCheck::lost);
+  EXPECT_EQ(store.reads.fingerprint(), before) << "a stale token changes nothing";
+
+  EXPECT_EQ(store.queue.complete(second->job_id, second->token, result_for(store, second->job_id),
+                           t0 + lease_ms + 3),
+            LeaseCheck::ok);
+  const json job = *job_of(store, first->job_id);
+  EXPECT_EQ(job["state"], "succeeded");
+  EXPECT_EQ(job["result"]["worker"], "live-worker");
+  EXPECT_EQ(job["result"]["engine_version"], "test-1");
+  EXPECT_EQ(job["result"]["source_revision"], "abc");
+  // Completing twice, even with the token that won, is refused: results are never overwritten.
+  EXPECT_EQ(store.queue.complete(second->job_id, second->token, result_for(store, second->job_id), t0),
+            LeaseCheck::lost);
+  const auto m = store.reads.metrics();
+  EXPECT_EQ(m.events_by_kind.size() > 0, true);
+}
+
+TEST_F(StoreTest, ALeaseExpiringOnTheLastAttemptFailsTheJob) {
+  json body = points({0.01});
+  body["max_attempts"] = 1;
+  store.sweeps.create(plan(body), t0);
+  auto l = store.queue.lease("w", "test-1", t0);
+  EXPECT_EQ(store.queue.requeue_expired(t0 + lease_ms + 1), 1);
+  const json job = *job_of(store, l->job_id);
+  EXPECT_EQ(job["state"], "failed");
+  EXPECT_NE(job["last_error"].get<std::string>().find("lease expired"), std::string::npos);
+}
+
+TEST_F(StoreTest, RetryableFailuresRequeueWithGrowingBackoffUntilTheAttemptsAreUsed) {
+  store.sweeps.create(plan(points({0.01})), t0);  // max_attempts 3
+  auto l1 = store.queue.lease("w", "test-1", t0);
+  auto f1 = store.queue.fail(l1->job_id, l1->token, "runner crashed: signal 11", true, t0);
+  EXPECT_EQ(f1.state, JobState::queued);
+  EXPECT_EQ(f1.run_after, t0 + 1'000);
+  EXPECT_FALSE(store.queue.lease("w", "test-1", t0 + 999)) << "backoff not over";
+  auto l2 = store.queue.lease("w", "test-1", t0 + 1'000);
+  ASSERT_TRUE(l2);
+  auto f2 = store.queue.fail(l2->job_id, l2->token, "again", true, t0 + 1'000);
+  EXPECT_EQ(f2.run_after, t0 + 1'000 + 2'000) << "the backoff doubles";
+  auto l3 = store.queue.lease("w", "test-1", t0 + 3'000);
+  ASSERT_TRUE(l3);
+  EXPECT_EQ(store.queue.fail(l3->job_id, l3->token, "third", true, t0 + 3'000).state, JobState::failed);
+  const json job = *job_of(store, l3->job_id);
+  EXPECT_EQ(job["state"], "failed");
+  EXPECT_EQ(job["attempts"], 3);
+  EXPECT_EQ(job["last_error"], "third");
+  int retries = 0;
+  for (const auto& e : job["events"]) retries += e["kind"] == "retry";
+  EXPECT_EQ(retries, 2);
+}
+
+TEST_F(StoreTest, ANonRetryableFailureFailsAtOnce) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  auto l = store.queue.lease("w", "test-1", t0);
+  EXPECT_EQ(store.queue.fail(l->job_id, l->token, "invalid input", false, t0).state, JobState::failed);
+}
+
+TEST_F(StoreTest, ReleaseRequeuesAtOnceWithoutCountingTheAttempt) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  auto l = store.queue.lease("w", "test-1", t0);
+  EXPECT_EQ(store.queue.release(l->job_id, l->token, t0 + 10), LeaseCheck::ok);
+  auto again = store.queue.lease("w2", "test-1", t0 + 10);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->attempt, 1);
+}
+
+TEST_F(StoreTest, IdenticalParametersAreComputedOnceAndReusedByLaterSweeps) {
+  auto s1 = store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  EXPECT_EQ(s1.n_new, 2);
+  auto l = store.queue.lease("w", "test-1", t0);
+  ASSERT_EQ(store.queue.complete(l->job_id, l->token, result_for(store, l->job_id), t0), LeaseCheck::ok);
+  auto s2 = store.sweeps.create(plan(points({0.01, 0.02, 0.03})), t0);
+  EXPECT_EQ(s2.n_jobs, 3);
+  EXPECT_EQ(s2.n_new, 1);
+  EXPECT_EQ(s2.n_reused, 1);
+  EXPECT_EQ(s2.n_shared, 1);
+  const json sweep = *sweep_of(store, s2.id);
+  EXPECT_EQ(sweep["counts"]["succeeded"], 1);
+  EXPECT_EQ(sweep["counts"]["queued"], 2);
+  EXPECT_EQ(jobs_of(store, {}).at("total"), 3);
+}
+
+TEST_F(StoreTest, CancelSparesJobsThatAnotherLiveSweepWants) {
+  auto a = store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  store.sweeps.create(plan(points({0.02})), t0);
+  auto l = store.queue.lease("w", "test-1", t0);  // S = 0.01, only in sweep a
+  const json out = *cancel_of(store, a.id, t0 + 1);
+  EXPECT_EQ(out["cancelled_jobs"], 1);
+  EXPECT_EQ((*job_of(store, l->job_id))["state"], "cancelled");
+  Millis deadline = 0;
+  EXPECT_EQ(store.queue.heartbeat(l->job_id, l->token, 0.0, t0 + 2, deadline), LeaseCheck::lost)
+      << "the worker learns of the cancel at its next heartbeat";
+  EXPECT_EQ((*sweep_of(store, a.id))["state"], "cancelled");
+  EXPECT_FALSE(cancel_of(store, 12345, t0));
+  // A new sweep asking for a cancelled job queues it again.
+  auto c = store.sweeps.create(plan(points({0.01})), t0 + 3);
+  EXPECT_EQ(c.n_requeued, 1);
+  EXPECT_EQ((*job_of(store, l->job_id))["state"], "queued");
+}
+
+TEST_F(StoreTest, PhaseMapListsTheJobsAtOnePhiWithTheirLabels) {
+  store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  json other = points({0.05});
+  other["points"][0]["phi"] = 0.5;
+  store.sweeps.create(plan(other), t0);
+  auto l = store.queue.lease("w", "test-1", t0);
+  store.queue.complete(l->job_id, l->token, result_for(store, l->job_id), t0);
+  const json map = phase_map_of(store, 0.4, std::nullopt);
+  ASSERT_EQ(map["points"].size(), 2u);
+  EXPECT_EQ(map["points"][0]["class"], "a");
+  EXPECT_EQ(map["points"][0]["state"], "succeeded");
+  EXPECT_TRUE(map["points"][1]["class"].is_null());
+  EXPECT_EQ(phase_map_of(store, 0.5, std::nullopt)["points"].size(), 1u);
+}
+
+TEST_F(StoreTest, ArtifactsAreStoredWithTheResult) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  auto l = store.queue.lease("w", "test-1", t0);
+  store.queue.complete(l->job_id, l->token, result_for(store, l->job_id, "unstable"), t0);
+  const auto a = store.reads.artifact(l->job_id, "frames.csv");
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->data, "eps\n0.01\n");
+  EXPECT_EQ((*store.reads.artifacts(l->job_id)).size(), 1u);
+  EXPECT_EQ((*job_of(store, l->job_id))["result"]["status"], "unstable");
+  EXPECT_EQ((*job_of(store, l->job_id))["state"], "succeeded") << "an unstable run is a result";
+}
+
+TEST(StoreSchema, MigrationsAreAppliedOnceAndRecorded) {
+  TempDir dir;
+  { Store s(dir.file("db"), config()); }
+  { Store s(dir.file("db"), config()); }  // reopening applies nothing twice
+  sqlite::Database db(dir.file("db"));
+  auto q = db.prepare("SELECT count(*), min(name) FROM schema_migrations");
+  ASSERT_TRUE(q.step());
+  EXPECT_EQ(q.int64(0), static_cast<std::int64_t>(embedded_migrations().size()));
+  EXPECT_EQ(q.text(1), "0001_init.sql");
+}
+
+TEST(StoreSchema, AnEditedMigrationIsRefused) {
+  TempDir dir;
+  { Store s(dir.file("db"), config()); }
+  sqlite::Database db(dir.file("db"));
+  auto edited = embedded_migrations();
+  edited[0].sql += "\n-- edited";
+  EXPECT_THROW(apply_migrations(db, edited), std::runtime_error);
+}
+
+TEST(StoreSchema, TheSchemaRefusesUnknownStatesAndLeaselessRunningJobs) {
+  TempDir dir;
+  {
+    Store s(dir.file("db"), config());
+    s.sweeps.create(plan(points({0.01})), t0);
+  }
+  sqlite::Database db(dir.file("db"));
+  EXPECT_THROW(db.prepare("UPDATE jobs SET state = 'done'").run(), sqlite::Error);
+  EXPECT_THROW(db.prepare("UPDATE jobs SET state = 'running'").run(), sqlite::Error);
+  EXPECT_THROW(db.prepare("INSERT INTO results (job_id, status, scene, engine_version,"
+                          " source_revision, summary, worker, created_at)"
+                          " VALUES (1, 'cancelled', '{}', 'v', 'r', '{}', 'w', 0)")
+                   .run(),
+               sqlite::Error);
+}
+
+TEST_F(StoreTest, TheEventLogOfAJobLeasedAndReleasedForeverStaysBoundedAndCountsWhatItDropped) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  std::int64_t id = 0;
+  for (int i = 0; i < 300; ++i) {
+    const auto l = store.queue.lease("w", "test-1", t0 + i);
+    ASSERT_TRUE(l);
+    id = l->job_id;
+    ASSERT_EQ(store.queue.release(id, l->token, t0 + i), LeaseCheck::ok);
+  }
+  const json j = *job_of(store, id);
+  EXPECT_EQ(j["events"].size(), static_cast<std::size_t>(max_events_per_job));
+  // 600 events in all (a lease and a release per cycle); the newest is the last release.
+  EXPECT_EQ(j["events_dropped"].get<int>() + static_cast<int>(j["events"].size()), 600);
+  EXPECT_EQ(j["events"].back()["kind"], "released");
+  // The totals behind the metrics' counters count every event, dropped or not.
+  const StoreMetrics m = store.reads.metrics();
+  std::int64_t leased = 0, released = 0;
+  for (const auto& [kind, n] : m.events_by_kind) {
+    if (kind == "leased") leased = n;
+    if (kind == "released") released = n;
+  }
+  EXPECT_EQ(leased, 300);
+  EXPECT_EQ(released, 300);
+}
+
+TEST_F(StoreTest, ArtifactsAreFilesBesideTheDatabaseAndAnUploadThatLostItsLeaseLeavesNone) {
+  store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  const auto a = store.queue.lease("w", "test-1", t0);
+  ResultRecord r = result_for(store, a->job_id);
+  r.artifacts.push_back({"spacetime.npy", "application/octet-stream", std::string(100000, '\x7f')});
+  ASSERT_EQ(store.queue.complete(a->job_id, a->token, r, t0 + 1), LeaseCheck::ok);
+  const auto npy = store.reads.artifact(a->job_id, "spacetime.npy");
+  ASSERT_TRUE(npy);
+  EXPECT_EQ(npy->data, std::string(100000, '\x7f'));
+  const std::filesystem::path root = dir.file("jobs.db.artifacts");
+  ASSERT_EQ(std::distance(std::filesystem::directory_iterator(root), {}), 1);
+
+  // A stale token: the files are written first, then removed when the transaction refuses.
+  const auto b = store.queue.lease("w", "test-1", t0 + 2);
+  ResultRecord stale = result_for(store, b->job_id);
+  EXPECT_EQ(store.queue.complete(b->job_id, "stale", stale, t0 + 3), LeaseCheck::lost);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(root), {}), 1);
+}
+
+TEST(StoreStart, RemovesTheFilesOfAnUploadThatNeverCommittedAndKeepsTheOthers) {
+  TempDir dir;
+  std::int64_t job = 0;
+  {
+    Store store(dir.file("jobs.db"), config());
+    store.sweeps.create(plan(points({0.01})), t0);
+    const auto l = store.queue.lease("w", "test-1", t0);
+    job = l->job_id;
+    ASSERT_EQ(store.queue.complete(job, l->token, result_for(store, job), t0 + 1), LeaseCheck::ok);
+  }
+  // What a crash between writing the files and the commit leaves.
+  const std::filesystem::path orphan = dir.path / "jobs.db.artifacts" / "job-9-deadbeef";
+  std::filesystem::create_directories(orphan);
+  std::ofstream(orphan / "frames.csv") << "eps\n";
+  Store store(dir.file("jobs.db"), config());
+  EXPECT_FALSE(std::filesystem::exists(orphan));
+  EXPECT_EQ(store.reads.artifact(job, "frames.csv")->data, "eps\n0.01\n");
+}
+
+TEST_F(StoreTest, ReadsSeeTheCommittedStateWhileAnotherConnectionHoldsTheWriteLock) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  sqlite::Database other(dir.file("jobs.db"));
+  sqlite::Transaction holding(other);
+  other.prepare("UPDATE jobs SET priority = 5").run();
+  EXPECT_EQ(jobs_of(store, {})["jobs"][0]["priority"], 0);
+  EXPECT_EQ(phase_map_of(store, 0.4, std::nullopt)["points"].size(), 1u);
+  ASSERT_TRUE(sweep_of(store, 1));
+  EXPECT_EQ((*sweep_of(store, 1))["counts"]["queued"], 1);
+}
