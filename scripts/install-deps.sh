@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ git pkg-config
   libsqlite3-dev sqlite3 nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev
-  libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
+  libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libcli11-dev
   python3 curl
 )
 for arg in "$@"; do

@@ -1,6 +1,7 @@
 #include "http_util.hpp"
 
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,7 +9,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "compaction/text_numbers.hpp"
 #include "json_input.hpp"
 #include "safe_text.hpp"
 
@@ -87,6 +87,15 @@ std::optional<long long> to_int(const std::string& s) {
   if (end != s.c_str() + s.size()) return std::nullopt;
   return v;
 }
+
+// A query's number: the whole text, decimal only (no hex, no "nan", no "inf"), finite.
+std::optional<double> to_finite_real(const std::string& s) {
+  double v = 0;
+  const char* end = s.data() + s.size();
+  const auto [ptr, ec] = std::from_chars(s.data(), end, v);
+  if (s.empty() || ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
 }  // namespace
 
 std::int64_t path_id(const httplib::Request& req, int match_index, const char* what) {
@@ -115,11 +124,9 @@ std::optional<std::int64_t> query_id(const httplib::Request& req, const char* na
 std::optional<double> query_number(const httplib::Request& req, const char* name) {
   if (!req.has_param(name)) return std::nullopt;
   const std::string s = req.get_param_value(name);
-  double v = 0;
-  if (!compaction::parse_finite_real(s, v)) {  // decimal only: no hex, no "nan", no "inf"
-    throw ApiError(422, name, "must be a finite number, got " + describe(json(valid_utf8(s))));
-  }
-  return v;
+  const auto v = to_finite_real(s);
+  if (!v) throw ApiError(422, name, "must be a finite number, got " + describe(json(valid_utf8(s))));
+  return *v;
 }
 
 std::string body_string(const json& body, const char* key, std::size_t max_len, TextKind text) {

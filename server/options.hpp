@@ -25,11 +25,13 @@ struct ServerOptions {
   std::string log_level = "info";
 };
 
-// Parses argv (environment: COMPACTION_SUBMIT_TOKEN, COMPACTION_WORKER_TOKEN).
-// Returns the options, or nullopt after printing --help (exit 0) or an error naming the flag
+// Parses argv (environment: COMPACTION_SUBMIT_TOKEN, COMPACTION_WORKER_TOKEN) with the
+// programs' common grammar (engine/apps/command_line.hpp). Returns the options, or nullopt
+// after printing --help or --version (exit 0) or an error naming the flag and its value
 // (exit 2); `exit_code` says which.
 std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& exit_code);
 
+// The text of --help, with the defaults and ranges of the flags.
 std::string server_usage();
 
 // Whether every address the host name resolves to is a loopback address (127.0.0.0/8, ::1);

@@ -20,7 +20,13 @@ struct WorkerOptions {
   std::string log_level = "info";
 };
 
-// nullopt after --help (exit_code 0) or an error naming the flag (exit_code 2).
-std::optional<WorkerOptions> parse_worker_options(int argc, char** argv, int& exit_code);
+// Parses argv with the programs' common grammar (engine/apps/command_line.hpp); nullopt after
+// --help or --version (exit_code 0) or an error naming the flag and its value (exit_code 2).
+// The runner must be an executable file (its version is asked for later: runner_version.hpp).
+std::optional<WorkerOptions> parse_worker_options(int argc, const char* const* argv,
+                                                  int& exit_code);
+
+// The text of --help, with the defaults and ranges of the flags.
+std::string worker_usage();
 
 }  // namespace compaction::worker

@@ -1,10 +1,8 @@
-// Command-line arguments of compaction-run.
+// Command-line arguments of compaction-run (command_line.hpp gives the grammar).
 #pragma once
 
+#include <optional>
 #include <string>
-#include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "compaction/params.hpp"
 
@@ -16,13 +14,11 @@ struct Options {
   SceneParams params;
   std::string out_dir;
   ProgressMode progress = ProgressMode::automatic;
-  bool help = false;
-  bool version = false;
 };
 
-// Parses argv. On failure returns the problems, one "flag: message" each (nothing run).
-std::vector<std::string> parse(int argc, const char* const* argv, Options& out);
-
-std::string help_text();
+// Parses argv into `out`. std::nullopt: run; otherwise the exit code (0 after --help or
+// --version, 2 after invalid input, each problem reported on stderr as
+// "compaction-run: --flag (field): message").
+std::optional<int> parse(int argc, const char* const* argv, Options& out);
 
 }  // namespace compaction::cli

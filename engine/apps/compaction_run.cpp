@@ -48,20 +48,7 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(log);
 
   cli::Options opt;
-  const auto errors = cli::parse(argc, argv, opt);
-  if (opt.help) {
-    std::cout << cli::help_text();
-    return 0;
-  }
-  if (opt.version) {
-    std::cout << "compaction-run " << engine_version() << " (" << source_revision() << ")\n";
-    return 0;
-  }
-  if (!errors.empty()) {
-    for (const auto& e : errors) std::cerr << "error: " << e << '\n';
-    std::cerr << "see compaction-run --help\n";
-    return 2;
-  }
+  if (const auto code = cli::parse(argc, argv, opt)) return *code;
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -121,7 +108,7 @@ int main(int argc, char** argv) {
     }
     return r.status == RunStatus::cancelled ? 3 : 0;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << '\n';
+    std::cerr << "compaction-run: " << e.what() << '\n';
     return 1;
   }
 }

@@ -4,23 +4,18 @@
 #include <iostream>
 #include <string>
 
+#include "command_line.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/classify.hpp"
 
 namespace {
 
-const char* kHelp =
-    "compaction-classify: label the compaction pattern (a)-(f) of a result bundle\n"
+const char* kAbout =
+    "label the compaction pattern (a)-(f) of a result bundle\n"
     "(Blatny et al., PRL 128, 228002, 2022) from what the run produced: the space-time map,\n"
-    "the plate stresses and the strut diagnostics. S and R are never read.\n"
-    "\n"
-    "usage: compaction-classify [--fronts] [--compact] RESULT_DIR\n"
-    "\n"
-    "  RESULT_DIR   a bundle written by compaction-run (summary.json, frames.csv, spacetime.npy)\n"
-    "  --fronts     also print every propagating front (origin, start, end, speed, turns)\n"
-    "  --compact    one line of JSON instead of indented\n"
-    "  -h, --help   this text\n"
-    "\n"
+    "the plate stresses and the strut diagnostics. S and R are never read.";
+
+const char* kNotes =
     "output: {\"class\": \"a\"..\"f\" | \"unclassified\", \"confidence\", \"runner_up\",\n"
     "         \"n_reflections\", \"band_speed_ratio\", \"features\": {...}}\n"
     "exit status: 0 classified (also \"unclassified\"), 1 unreadable bundle, 2 bad usage\n";
@@ -31,26 +26,13 @@ int main(int argc, char** argv) {
   using namespace compaction;
   std::string dir;
   bool fronts = false, compact = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") { std::cout << kHelp; return 0; }
-    if (a == "--fronts") { fronts = true; continue; }
-    if (a == "--compact") { compact = true; continue; }
-    if (!a.empty() && a[0] == '-') {
-      std::cerr << "error: unknown option " << a << "\nsee compaction-classify --help\n";
-      return 2;
-    }
-    if (!dir.empty()) {
-      std::cerr << "error: one RESULT_DIR expected, got " << dir << " and " << a
-                << "\nsee compaction-classify --help\n";
-      return 2;
-    }
-    dir = a;
-  }
-  if (dir.empty()) {
-    std::cerr << "error: RESULT_DIR missing\nsee compaction-classify --help\n";
-    return 2;
-  }
+  cli::CommandLine cl("compaction-classify", kAbout, "[--fronts] [--compact] RESULT_DIR");
+  cl.positional("RESULT_DIR", dir,
+                "a bundle written by compaction-run (summary.json, frames.csv, spacetime.npy)");
+  cl.flag("--fronts", fronts, "also print every propagating front (origin, start, end, speed, turns)");
+  cl.flag("--compact", compact, "one line of JSON instead of indented");
+  cl.notes(kNotes);
+  if (const auto code = cl.parse(argc, argv)) return *code;
   try {
     const Bundle b = read_bundle(dir);
     const classify::Classification c = classify::classify(b.params, b.result);
@@ -77,7 +59,7 @@ int main(int argc, char** argv) {
     std::cout << (compact ? out.dump() : out.dump(2)) << '\n';
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << '\n';
+    std::cerr << "compaction-classify: " << e.what() << '\n';
     return 1;
   }
 }

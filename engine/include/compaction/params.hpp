@@ -37,6 +37,37 @@ inline constexpr double kPhiMax = 0.8;
 inline constexpr double kSolidColumnPhi = 1.0;  // no holes: the verification tests' column
 inline constexpr std::size_t kMaxSnapshots = 100;
 
+// An interval a parameter must lie in: [lo, hi], or (lo, hi) when open.
+struct Range {
+  double lo, hi;
+  bool open = false;
+  bool contains(double v) const;  // false for NaN
+};
+std::string to_string(const Range& r);  // "[0.2, 0.8]", "(0, 1)"
+
+// The range of each field that validate() checks, in one place: validate() and the runner's
+// --help read them.
+namespace limits {
+inline constexpr Range S{0.0, 1.0, true};
+inline constexpr Range R{0.0, 1.0, true};
+inline constexpr Range phi{kPhiMin, kPhiMax};  // or kSolidColumnPhi
+inline constexpr Range rho{1e-6, 1e9};
+inline constexpr Range nu{0.0, 0.49};
+inline constexpr Range q_y{1e-9, 1e15};
+inline constexpr Range h0{1e-9, 1e9};
+inline constexpr Range n_cols{1, 200};
+inline constexpr Range n_rows{1, 400};
+inline constexpr Range cells_per_unit{2, 200};
+inline constexpr Range particles_per_cell{1, 4};
+inline constexpr Range cfl{0.0, 2.0, true};
+inline constexpr Range flip_ratio{0.0, 1.0};
+inline constexpr Range perturbation{0.0, 0.5};
+inline constexpr Range d_eps{1e-8, 0.1};
+inline constexpr Range threads{1, 256};
+inline constexpr Range eps_end{0.0, 0.95, true};  // when set (> 0); <= 0 means 1 - phi
+inline constexpr Range snapshot_eps{0.0, 0.95};
+}  // namespace limits
+
 struct SceneParams {
   // Dimensionless inputs (the paper's Eq. 3).
   double S = 4e-3;    // Mach number V / sqrt(E / rho)                          [-]
