@@ -6,15 +6,16 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <thread>
 
 #include <spdlog/spdlog.h>
 
 #include "api_client.hpp"
-#include "compaction/result.hpp"
 #include "job_runner.hpp"
 #include "options.hpp"
+#include "runner_version.hpp"
 #include "scratch.hpp"
 
 using namespace compaction::worker;
@@ -24,7 +25,8 @@ namespace {
 // Exit codes a batch scheduler can read (also in --help).
 constexpr int exit_done = 0;         // stopped by signal, --max-jobs or --idle-exit
 constexpr int exit_error = 1;        // the work folder, a malformed answer
-constexpr int exit_refused = 2;      // bad flags, or the server refused the worker (token)
+constexpr int exit_refused = 2;      // bad flags (or a runner without a version), or the server
+                                     // refused the worker (token)
 constexpr int exit_unreachable = 3;  // the server never answered
 
 std::atomic<bool> stop_requested{false};
@@ -55,6 +57,13 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   const auto options = parse_worker_options(argc, argv, exit_code);
   if (!options) return exit_code;
+  RunnerVersion engine;  // what the runner runs, not what this worker was built with
+  try {
+    engine = ask_runner_version(options->runner);
+  } catch (const std::exception& e) {
+    std::cerr << "compaction-worker: --runner: " << e.what() << "\n";
+    return exit_refused;
+  }
   spdlog::set_level(spdlog::level::from_str(options->log_level));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ worker " + options->name + ": %v");
   install_signal_handlers();
@@ -74,8 +83,9 @@ int main(int argc, char** argv) {
   }
   ApiClient client(options->server, options->token);
   JobRunner runner(*options, client, stop_requested);
-  spdlog::info("started: server={} runner={} engine={} threads={} work_dir={}", options->server,
-               options->runner, compaction::engine_version(), options->threads, options->work_dir);
+  spdlog::info("started: server={} runner={} engine={} ({}) threads={} work_dir={}",
+               options->server, options->runner, engine.engine_version, engine.source_revision,
+               options->threads, options->work_dir);
 
   int jobs = 0;
   auto last_work = std::chrono::steady_clock::now();
@@ -86,7 +96,7 @@ int main(int argc, char** argv) {
       spdlog::info("done: {} job(s), the --max-jobs limit", jobs);
       break;
     }
-    const Reply r = client.lease(options->name, compaction::engine_version());
+    const Reply r = client.lease(options->name, engine.engine_version);
     if (r.outcome != Outcome::unreachable) reached = true;
     if (r.outcome == Outcome::ok) {
       warned_unreachable = false;

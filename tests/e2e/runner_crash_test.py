@@ -7,6 +7,7 @@ from e2e_lib import Env, TINY, bin_dir_from_args, check, stop
 here = os.path.dirname(os.path.abspath(__file__))
 env = Env(bin_dir_from_args(), "runner-crash")
 env.start_server("--retry-backoff", "0.2")
+os.environ["COMPACTION_REAL_RUNNER"] = os.path.join(env.bin, "compaction-run")  # its --version
 w = env.start_worker("crashy", "--runner", os.path.join(here, "crashing_runner.sh"))
 sweep = env.submit({"name": "crash", "points": [{"S": 0.05, "R": 1e-3, "phi": 0.4},
                                                {"S": 0.1, "R": 1e-3, "phi": 0.4}],
