@@ -9,7 +9,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "child_process.hpp"
 
 namespace compaction::worker {
 
@@ -94,15 +93,18 @@ JobEnd JobRunner::run(const LeasedJob& job) {
   spdlog::info("job {} started: S={} R={} phi={} cells_per_unit={} attempt {}/{} pid={}", job.id,
                scene.value("S", 0.0), scene.value("R", 0.0), scene.value("phi", 0.0),
                scene.value("cells_per_unit", 0), job.attempt, job.max_attempts, child->pid());
+  const Watched w = watch(job, *child);
+  if (w.end) return *w.end;
+  return conclude(job, w, out_dir, stderr_file);
+}
 
+JobRunner::Watched JobRunner::watch(const LeasedJob& job, ChildProcess& child) {
   const double hb_interval = std::clamp(job.lease_seconds / 3.0, 0.2, 10.0);
   auto last_hb = Clock::now();
   double eps = 0.0, reported_eps = 0.0;
-  std::string done_status, done_reason;
-  std::optional<ExitStatus> exit;
-
+  Watched w;
   for (;;) {
-    for (const std::string& line : child->read_lines(200)) {
+    for (const std::string& line : child.read_lines(200)) {
       const json ev = json::parse(line, nullptr, false);
       if (!ev.is_object()) {
         spdlog::debug("job {} runner: {}", job.id, line);
@@ -112,14 +114,15 @@ JobEnd JobRunner::run(const LeasedJob& job) {
       if (kind == "progress" && ev.contains("eps") && ev["eps"].is_number()) {
         eps = std::clamp(ev["eps"].get<double>(), 0.0, 1.0);
       } else if (kind == "done") {
-        done_status = ev.value("status", std::string());
-        done_reason = ev.value("reason", std::string());
+        w.done_status = ev.value("status", std::string());
+        w.done_reason = ev.value("reason", std::string());
       }
     }
     if (stop_) {
-      child->terminate(5000);
+      child.terminate(5000);
       spdlog::info("job {}: stopping (signal); run stopped at eps={:.4f}", job.id, eps);
-      return release(job);
+      w.end = release(job);
+      return w;
     }
     const double since = seconds_since(last_hb);
     if (since >= hb_interval || (eps > reported_eps && since >= std::min(1.0, hb_interval))) {
@@ -128,36 +131,43 @@ JobEnd JobRunner::run(const LeasedJob& job) {
       if (r.outcome == Outcome::ok) {
         reported_eps = eps;
       } else if (r.outcome == Outcome::lease_lost || r.outcome == Outcome::not_found) {
-        child->terminate(2000);
+        child.terminate(2000);
         spdlog::warn("job {}: lease lost ({}); run stopped, nothing reported", job.id, r.message);
-        return JobEnd::lease_lost;
+        w.end = JobEnd::lease_lost;
+        return w;
       } else {
         spdlog::warn("job {}: heartbeat failed ({}); the run goes on", job.id, r.message);
       }
     }
-    if (child->eof()) {
-      exit = child->poll_exit();
-      if (exit) break;
+    if (child.eof()) {
+      if (const auto exit = child.poll_exit()) {
+        w.exit = *exit;
+        return w;
+      }
     }
   }
+}
 
+JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::string& out_dir,
+                           const std::string& stderr_file) {
   const std::string err_tail = tail_of_file(stderr_file, 2000);
-  if (exit->signaled) {
-    return report_failure(job, "runner crashed: " + exit->describe() +
+  if (w.exit.signaled) {
+    return report_failure(job, "runner crashed: " + w.exit.describe() +
                                    (err_tail.empty() ? "" : "; stderr: " + err_tail),
                           true);
   }
-  switch (exit->code) {
+  switch (w.exit.code) {
     case 0:
-      spdlog::info("job {}: run ended status={}{}", job.id, done_status.empty() ? "?" : done_status,
-                   done_reason.empty() ? "" : " (" + done_reason + ")");
+      spdlog::info("job {}: run ended status={}{}", job.id,
+                   w.done_status.empty() ? "?" : w.done_status,
+                   w.done_reason.empty() ? "" : " (" + w.done_reason + ")");
       return upload(job, out_dir);
     case 2:
       return report_failure(job, "invalid input: " + err_tail, false);
     case 3:
       return report_failure(job, "the runner was cancelled by someone else: " + err_tail, true);
     default:
-      return report_failure(job, "runner failed with " + exit->describe() +
+      return report_failure(job, "runner failed with " + w.exit.describe() +
                                      (err_tail.empty() ? "" : ": " + err_tail),
                             true);
   }

@@ -10,11 +10,13 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "api_client.hpp"
+#include "child_process.hpp"
 #include "options.hpp"
 
 namespace compaction::worker {
@@ -43,6 +45,18 @@ class JobRunner {
   JobEnd run(const LeasedJob& job);
 
  private:
+  // How a run went: stopped by the worker (end), or ended by itself (exit, and its "done" line).
+  struct Watched {
+    std::optional<JobEnd> end;
+    ExitStatus exit;
+    std::string done_status, done_reason;
+  };
+  // Follows the runner's progress lines with heartbeats until it exits, the lease is lost or
+  // the worker stops.
+  Watched watch(const LeasedJob& job, ChildProcess& child);
+  // What the runner's exit means: an upload, or a failure with its reason.
+  JobEnd conclude(const LeasedJob& job, const Watched& w, const std::string& out_dir,
+                  const std::string& stderr_file);
   JobEnd report_failure(const LeasedJob& job, const std::string& reason, bool retryable);
   JobEnd upload(const LeasedJob& job, const std::string& out_dir);
   JobEnd release(const LeasedJob& job);
