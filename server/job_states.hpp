@@ -50,8 +50,4 @@ constexpr std::optional<JobState> parse_job_state(std::string_view s) {
   return std::nullopt;
 }
 
-constexpr bool is_terminal(JobState s) {
-  return s == JobState::succeeded || s == JobState::failed || s == JobState::cancelled;
-}
-
 }  // namespace compaction::server
