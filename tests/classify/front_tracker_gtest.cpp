@@ -39,6 +39,50 @@ TEST(FrontTracker, SingleStraightFrontFromTheTopHasItsSpeedAndNoReflection) {
   EXPECT_NEAR(fronts[0]->path.back().centroid, 0.985 - c * 0.4, 0.01);
 }
 
+// The two readings of the speed agree on a straight front, each within its stated uncertainty
+// (and both within the 2 % of the fit above).
+TEST(FrontTracker, AStraightFrontsFittedAndTransitSpeedsAgreeWithinTheirUncertainties) {
+  const double c = 2.0;
+  const auto run = make_run(0.4, [&](double eps, double y) { return bump(y, 0.985 - c * eps); });
+  const FrontTracks t = track(run);
+  const auto fronts = propagating(t);
+  ASSERT_EQ(fronts.size(), 1u);
+  const Front& f = *fronts[0];
+  EXPECT_NEAR(f.transit_speed, c, 0.02 * c);
+  EXPECT_GT(f.speed_error, 0.0);
+  EXPECT_LT(f.speed_error, 0.01 * c);   // a straight edge scatters by its rows only
+  EXPECT_GT(f.transit_error, 0.0);
+  EXPECT_LT(f.transit_error, 0.02 * c);  // a row and half a frame over about 0.4 h0
+  EXPECT_LE(std::abs(f.speed - c), 3 * f.speed_error + 0.005 * c);  // + the edge's quantisation
+  EXPECT_LE(std::abs(f.transit_speed - c), 3 * f.transit_error);
+  const Features F = features_of(run, track(run));
+  EXPECT_DOUBLE_EQ(F.band_speed_transit, f.transit_speed);
+  EXPECT_DOUBLE_EQ(F.band_speed_transit_error, f.transit_error);
+  EXPECT_DOUBLE_EQ(F.band_speed_error, f.speed_error);
+}
+
+// A band that slows down half way: the transit speed is the leg's mean (travel / strain), the
+// fit lies between the two speeds, and its standard error shows that the edge is not straight.
+TEST(FrontTracker, ABandThatSlowsDownHasTheMeanSpeedOfItsLegAsTransitAndAWideFit) {
+  const double fast = 3.0, slow = 1.8, switch_eps = 0.12;
+  const auto pos = [&](double eps) {
+    return eps < switch_eps ? 0.985 - fast * eps : 0.985 - fast * switch_eps - slow * (eps - switch_eps);
+  };
+  const auto run = make_run(0.4, [&](double eps, double y) { return bump(y, pos(eps)); });
+  const FrontTracks t = track(run);
+  const auto fronts = propagating(t);
+  ASSERT_EQ(fronts.size(), 1u);
+  const Front& f = *fronts[0];
+  EXPECT_GT(f.speed, slow);
+  EXPECT_LT(f.speed, fast);
+  // The straight edge above scatters by 5e-4 about its line; this one by ten times more.
+  EXPECT_GT(f.speed_error, 0.005);
+  // The leg runs to the end of the run: its mean speed is the travel over the strain (2 %, as
+  // the fit above, for the edge's plate margin at the start).
+  const double mean = (pos(0.0) - pos(0.4)) / 0.4;
+  EXPECT_NEAR(f.transit_speed, mean, 0.02 * mean);
+}
+
 TEST(FrontTracker, FrontFromTheBottomMovesUpWithPositiveSpeed) {
   const double c = 1.5;
   const auto run = make_run(0.3, [&](double eps, double y) { return bump(y, 0.015 + c * eps); });

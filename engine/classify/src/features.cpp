@@ -121,6 +121,9 @@ double coherence(const FrontTracks& t) {
 // reflections the strain-rate map hides, reflections.hpp).
 void band_features(const Front* prim, const BandPath& band, double zone, Features& F) {
   F.band_speed_ratio = prim ? prim->speed : kNaN;
+  F.band_speed_error = prim ? prim->speed_error : kNaN;
+  F.band_speed_transit = prim ? prim->transit_speed : kNaN;
+  F.band_speed_transit_error = prim ? prim->transit_error : kNaN;
   F.n_reflections = prim ? prim->n_reflections : 0;
   F.first_reflection_eps = kNaN;
   if (prim && !prim->turns.empty() && prim->turns.front().where != Origin::interior) {
@@ -271,6 +274,9 @@ nlohmann::json to_json(const Features& f) {
       {"first_reflection_eps", num(f.first_reflection_eps)},
       {"band_turns", f.band_turns},
       {"band_speed_ratio", num(f.band_speed_ratio)},
+      {"band_speed_error", num(f.band_speed_error)},
+      {"band_speed_transit", num(f.band_speed_transit)},
+      {"band_speed_transit_error", num(f.band_speed_transit_error)},
       {"bottom_speed_ratio", num(f.bottom_speed_ratio)},
       {"nonreflecting_speed", num(f.nonreflecting_speed)},
       {"speed_excess", num(f.speed_excess)},

@@ -171,24 +171,36 @@ void find_turns(Front& fr, const Scales& k) {
   }
 }
 
-// Least-squares slope of the leading edge over the part before the first turn, away from both
-// plates. The leading edge is the lower edge of a front moving down, the upper edge of one
-// moving up.
-void fit_speed(Front& fr, const Scales& k, const TrackerSettings& s) {
-  fr.speed = std::numeric_limits<double>::quiet_NaN();
+// The speed of the leading edge over the part before the first turn, away from both plates, read
+// two ways: the least-squares slope through every point (with its standard error), and the mean
+// speed between the first and the last point (travel / strain), which a band that slows down
+// or whose tracked branch changes on the way cannot pull towards a later slope. The leading edge
+// is the lower edge of a front moving down, the upper edge of one moving up.
+void fit_speed(Front& fr, const Scales& k, double frame_eps, const TrackerSettings& s) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  fr.speed = fr.speed_error = fr.transit_speed = fr.transit_error = nan;
   const auto& p = fr.path;
   const std::size_t last = fr.turns.empty() ? p.size() - 1 : fr.turns.front().index;
   const bool down = p[last].centroid < p.front().centroid;
   LineFit fit;
+  double eps_first = nan, y_first = nan, eps_last = nan, y_last = nan;
   for (std::size_t i = 0; i <= last; ++i) {
     if (diffuse(p[i], k) || p[i].shared) continue;
     const double y = down ? p[i].lo : p[i].hi;
     if (y < k.margin || y > top_of(p[i].eps) - k.margin) continue;
     fit.add(p[i].eps, y);
+    if (fit.n == 1) eps_first = p[i].eps, y_first = y;
+    eps_last = p[i].eps, y_last = y;
   }
   if (fit.n < s.min_fit_points || !fit.has_slope()) return;
   const double slope = fit.slope();  // h0 per unit imposed strain = speed / V
   fr.speed = down ? -slope : slope;
+  fr.speed_error = fit.slope_standard_error();
+  const double travel = down ? y_first - y_last : y_last - y_first, strain = eps_last - eps_first;
+  fr.transit_speed = travel / strain;
+  // Each end is known to one row in height and half a frame in strain.
+  const double dy = std::sqrt(2.0) * k.row, de = std::sqrt(2.0) * 0.5 * frame_eps;
+  fr.transit_error = std::abs(fr.transit_speed) * std::hypot(dy / travel, de / strain);
 }
 
 // Where a front is expected in frame f: its last own segment moved on with its velocity.
@@ -301,10 +313,13 @@ FrontTracks track_fronts(const SpaceTimeMap& map, const MapAxes& axes, const Tra
     for (const auto& g : out.segments[f]) out.total_mass += g.mass;
     link_frame(linking, out.segments[f], f, k, s);
   }
+  // The strain between frames (the maps' frames are evenly spaced in strain).
+  const double frame_eps =
+      map.n_frames > 1 ? (axes.eps.back() - axes.eps.front()) / (map.n_frames - 1) : 0.0;
   for (auto& fr : out.fronts) {
     find_turns(fr, k);
     fr.propagating = fr.travel >= k.travel;
-    fit_speed(fr, k, s);
+    fit_speed(fr, k, frame_eps, s);
   }
   return out;
 }

@@ -52,6 +52,10 @@ struct Features {
   std::vector<std::string> onset_origins;  // where those start: top, bottom, interior
   bool top_front = false;            // a propagating front starts at the top plate
   bool bottom_front = false;         // a propagating front starts at the bottom plate
+  double band_speed_error = 0.0;     // standard error of band_speed_ratio (the fit's scatter)
+  double band_speed_transit = 0.0;   // c_b / V of the same leg as its mean speed: travel /
+                                     // strain between its first and last points (NaN: none)
+  double band_speed_transit_error = 0.0;  // its uncertainty from the map's resolution
   int band_turns = 0;                // all turns of the band in the velocity map, at a plate or
                                      // not (a reflection is a turn within turn_travel of a plate)
   double bottom_speed_ratio = 0.0;   // c / V of the strongest bottom front (NaN: none)

@@ -52,8 +52,14 @@ struct Front {
   int n_reflections = 0;               // turns at a plate
   double travel = 0.0;                 // largest distance of the centroid from its start [h0]
   double speed = 0.0;                  // leading-edge speed before the first turn / V,
-                                       // positive in the direction of propagation (NaN if
-                                       // too few points)                                [-]
+                                       // positive in the direction of propagation: the
+                                       // least-squares slope (NaN if too few points)     [-]
+  double speed_error = 0.0;            // its standard error from the edge's scatter      [-]
+  double transit_speed = 0.0;          // the same leg's mean speed: the edge's travel between
+                                       // the first and last points of the fit / the strain
+                                       // it took (NaN if too few points)                 [-]
+  double transit_error = 0.0;          // its uncertainty from the map's resolution: each end
+                                       // known to a row and half a frame                 [-]
   bool propagating = false;            // travel >= min_travel
   double start_eps() const { return path.front().eps; }
   double end_eps() const { return path.back().eps; }
