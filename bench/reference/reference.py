@@ -1,0 +1,167 @@
+#!/usr/bin/env python3
+"""The converged-reference study: examples (a) and (b) of the paper (phi = 0.4, S = 4e-3, R = 1e-5
+and 4e-4), pseudo-1D, to eps = 0.2, at rising resolution. Runs what is missing, one run at a time
+on one thread, then writes docs/reference.md: per resolution the label, both readings of c_b/V
+with their uncertainties, the plateau stress, the cost; the change between levels, and where
+three levels allow it the observed order and a Richardson extrapolation.
+
+usage: bench/reference/reference.py [--cells 20,30,40,60,80] [--runs DIR] [--bin build/bin]
+                                    [--summarise-only] [--out docs/reference.md]
+  --runs DIR         where the bundles live (default ./out/reference): a run whose bundle is
+                     there is not made again
+  --summarise-only   make no run, only summarise the bundles that exist
+Cost: CPU seconds grow as (cells)^3; on this machine 40 cells takes about 490 s of CPU per run,
+60 cells about 3.4 times that, 80 cells about 8 times.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+EXAMPLES = {"a": 1e-5, "b": 4e-4}
+S, PHI, EPS_END = 4e-3, 0.4, 0.2
+
+
+def run(bin_dir, runs, ex, cells):
+    out = os.path.join(runs, "%s-%d" % (ex, cells))
+    if os.path.exists(os.path.join(out, "summary.json")):
+        return
+    t0 = time.time()
+    cpu0 = os.times()
+    subprocess.run([os.path.join(bin_dir, "compaction-run"), "--S", str(S), "--R", str(EXAMPLES[ex]),
+                    "--phi", str(PHI), "--cells-per-unit", str(cells), "--eps-end", str(EPS_END),
+                    "--snapshot-eps", "0.1,0.2", "--threads", "1", "--progress", "log",
+                    "--out", out], check=True)
+    cpu1 = os.times()
+    with open(out + ".time", "w") as f:
+        f.write("%.2f s wall, %.2f s user\n" % (time.time() - t0,
+                                                cpu1.children_user - cpu0.children_user))
+
+
+def cost(runs, ex, cells):
+    """(wall, cpu) seconds from the .time file next to the bundle (GNU time's or ours)."""
+    try:
+        words = open(os.path.join(runs, "%s-%d.time" % (ex, cells))).read().replace(",", " ").split()
+        return float(words[0]), float(words[3])
+    except (OSError, ValueError, IndexError):
+        return math.nan, math.nan
+
+
+def measure(bin_dir, runs, ex, cells):
+    d = os.path.join(runs, "%s-%d" % (ex, cells))
+    if not os.path.exists(os.path.join(d, "summary.json")):
+        return None
+    c = json.loads(subprocess.run([os.path.join(bin_dir, "compaction-classify"), "--compact", d],
+                                  capture_output=True, text=True, check=True).stdout)
+    f = c.get("features", {})
+    with open(os.path.join(d, "frames.csv")) as fh:
+        rows = [r for r in csv.DictReader(fh)]
+    top = [float(r["sigma_top_over_qy"]) for r in rows if EPS_END / 4 <= float(r["eps"]) <= EPS_END]
+    s = json.load(open(os.path.join(d, "summary.json")))
+    wall, cpu = cost(runs, ex, cells)
+    nan = float("nan")
+    g = lambda k: nan if f.get(k) is None else f[k]
+    return {"cells": cells, "label": c.get("class") or "-", "confidence": c.get("confidence") or nan,
+            "fit": g("band_speed_ratio"), "fit_err": g("band_speed_error"),
+            "transit": g("band_speed_transit"), "transit_err": g("band_speed_transit_error"),
+            "n_r": f.get("n_reflections"), "plateau": sum(top) / len(top) if top else nan,
+            "particles": s.get("n_particles"), "steps": s.get("steps"), "wall": wall, "cpu": cpu,
+            "strut_cells": cells * (1 - math.sqrt(1 - PHI))}
+
+
+def observed_order(c1, c2, c3, f1, f2, f3):
+    """p with (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p), h = 1 / cells; None if the
+    differences do not shrink monotonically (no asymptotic range)."""
+    d12, d23 = f1 - f2, f2 - f3
+    if d12 == 0 or d23 == 0 or d12 * d23 < 0 or abs(d23) >= abs(d12):
+        return None
+    h1, h2, h3 = 1 / c1, 1 / c2, 1 / c3
+    ratio = lambda p: (h1 ** p - h2 ** p) / (h2 ** p - h3 ** p) - d12 / d23
+    lo, hi = 0.05, 8.0
+    if ratio(lo) * ratio(hi) > 0:
+        return None
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if ratio(lo) * ratio(mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+
+def fmt(v, digits=3):
+    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else ("%.*g" % (digits, v))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--cells", default="20,30,40,60,80")
+    ap.add_argument("--runs", default=os.path.join(REPO, "out", "reference"))
+    ap.add_argument("--bin", default=os.path.join(REPO, "build", "bin"))
+    ap.add_argument("--summarise-only", action="store_true")
+    ap.add_argument("--out", default=os.path.join(REPO, "docs", "reference.md"))
+    a = ap.parse_args()
+    cells = sorted(int(c) for c in a.cells.split(","))
+    os.makedirs(a.runs, exist_ok=True)
+    if not a.summarise_only:
+        for c in cells:
+            for ex in EXAMPLES:
+                run(a.bin, a.runs, ex, c)
+    lines = ["# The converged reference: (a) and (b) at rising resolution", "",
+             "Made by `bench/reference/reference.py %s` (the runs' commands are in the script). "
+             "phi = 0.4, S = 4e-3, pseudo-1D, to eps = 0.2, one thread per run; cost is CPU seconds "
+             "(runs shared the machine with other work, so wall times are longer). c_b/V is read "
+             "two ways (docs/classifier.md): the least-squares slope of the leading edge before "
+             "its first turn (fit, with its standard error) and the first leg's mean speed "
+             "(transit, with the map's resolution as uncertainty). Plateau: mean top plate stress "
+             "over eps in [0.05, 0.2], / q_y. Struts are 1 - sqrt(1 - phi) = 0.225 of a unit cell "
+             "thick." % " ".join(sys.argv[1:]), ""]
+    for ex, R in EXAMPLES.items():
+        ms = [m for m in (measure(a.bin, a.runs, ex, c) for c in cells) if m]
+        lines += ["## (%s): R = %g" % (ex, R), "",
+                  "| cells per unit cell | cells per strut | label (confidence) | c_b/V fit | c_b/V transit | N_r by eps 0.2 | plateau sigma_top/q_y | particles | steps | CPU [s] |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for m in ms:
+            lines.append("| %d | %.1f | %s (%s) | %s +- %s | %s +- %s | %s | %s | %d | %d | %s |"
+                         % (m["cells"], m["strut_cells"], m["label"], fmt(m["confidence"], 2),
+                            fmt(m["fit"], 4), fmt(m["fit_err"], 2), fmt(m["transit"], 4),
+                            fmt(m["transit_err"], 2), m["n_r"], fmt(m["plateau"], 4),
+                            m["particles"], m["steps"], fmt(m["cpu"], 4)))
+        lines.append("")
+        if len(ms) >= 2:
+            lines.append("Change from each level to the next: " + "; ".join(
+                "%d -> %d cells: fit %+.1f %%, transit %+.1f %%, plateau %+.1f %%"
+                % (p["cells"], q["cells"], 100 * (q["fit"] / p["fit"] - 1),
+                   100 * (q["transit"] / p["transit"] - 1), 100 * (q["plateau"] / p["plateau"] - 1))
+                for p, q in zip(ms, ms[1:])) + ".")
+            lines.append("")
+        for key in ("fit", "transit", "plateau"):
+            if len(ms) < 3:
+                break
+            m1, m2, m3 = ms[-3:]
+            p = observed_order(m1["cells"], m2["cells"], m3["cells"], m1[key], m2[key], m3[key])
+            if p is None:
+                lines.append("- %s: the last three levels (%d, %d, %d cells) do not converge "
+                             "monotonically (%s, %s, %s): no observed order, no extrapolation."
+                             % (key, m1["cells"], m2["cells"], m3["cells"], fmt(m1[key], 4),
+                                fmt(m2[key], 4), fmt(m3[key], 4)))
+            else:
+                r = m3["cells"] / m2["cells"]
+                limit = m3[key] + (m3[key] - m2[key]) / (r ** p - 1)
+                lines.append("- %s: observed order %.2f from %d, %d, %d cells; Richardson limit "
+                             "%s, the finest run %+.1f %% from it (its uncertainty)."
+                             % (key, p, m1["cells"], m2["cells"], m3["cells"], fmt(limit, 4),
+                                100 * (m3[key] / limit - 1)))
+        lines.append("")
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
