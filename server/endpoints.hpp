@@ -57,6 +57,7 @@ inline constexpr Endpoint metrics       {"GET",  "/metrics",                    
 inline constexpr Endpoint api_metrics   {"GET",  "/api/v1/metrics",                     TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint openapi       {"GET",  "/api/v1/openapi.yaml",                TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint presets       {"GET",  "/api/v1/presets",                     TokenKind::none,   BodyKind::none,      no_body_bytes};
+inline constexpr Endpoint limits        {"GET",  "/api/v1/limits",                      TokenKind::none,   BodyKind::none,      no_body_bytes};
 // clang-format on
 }  // namespace endpoints
 

@@ -240,10 +240,12 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
   if (!body.contains("name")) invalid("name", "is required");
   if (!body["name"].is_string()) invalid("name", "must be a string, got " + describe(body["name"]));
   plan.name = body["name"].get<std::string>();
-  if (plan.name.empty() || plan.name.size() > 200) invalid("name", "must be 1 to 200 bytes");
+  if (plan.name.empty() || plan.name.size() > kMaxNameBytes) {
+    invalid("name", "must be 1 to " + std::to_string(kMaxNameBytes) + " bytes");
+  }
   if (has_control_characters(plan.name)) invalid("name", "must not hold control characters");
-  plan.priority = integer_in(body, "priority", 0, -1000, 1000);
-  plan.max_attempts = integer_in(body, "max_attempts", 3, 1, limits.max_attempts);
+  plan.priority = integer_in(body, "priority", kDefaultPriority, kPriorityMin, kPriorityMax);
+  plan.max_attempts = integer_in(body, "max_attempts", kDefaultMaxAttempts, 1, limits.max_attempts);
 
   const SceneParams base = base_scene(body, plan.preset);
 

@@ -24,6 +24,12 @@
 
 namespace compaction::server {
 
+// The rules of a sweep request beyond the scene's (compaction::limits), served by
+// GET /api/v1/limits so the dashboard's form checks what the planner checks.
+inline constexpr std::size_t kMaxNameBytes = 200;
+inline constexpr int kPriorityMin = -1000, kPriorityMax = 1000, kDefaultPriority = 0;
+inline constexpr int kDefaultMaxAttempts = 3;
+
 struct PlannerLimits {
   std::size_t max_points = 2000;  // scenes per sweep
   int max_attempts = 10;          // upper bound of a sweep's max_attempts

@@ -18,6 +18,31 @@ extern const char* const openapi_yaml;  // generated from server/openapi.yaml
 
 using nlohmann::json;
 
+namespace {
+
+json range_json(const compaction::Range& r) { return {{"lo", r.lo}, {"hi", r.hi}, {"open", r.open}}; }
+
+// What a sweep request may hold: the planner's rules and the scene's ranges, from their homes.
+json limits_json(const PlannerLimits& l) {
+  namespace lim = compaction::limits;
+  return {{"sweep",
+           {{"max_points", l.max_points},
+            {"name_max_bytes", kMaxNameBytes},
+            {"priority", {{"lo", kPriorityMin}, {"hi", kPriorityMax}, {"default", kDefaultPriority}}},
+            {"max_attempts", {{"lo", 1}, {"hi", l.max_attempts}, {"default", kDefaultMaxAttempts}}},
+            {"max_upload_bytes", l.max_bundle_bytes}}},
+          {"scene",
+           {{"S", range_json(lim::S)},
+            {"R", range_json(lim::R)},
+            {"phi", range_json(lim::phi)},
+            {"cells_per_unit", range_json(lim::cells_per_unit)},
+            {"eps_end", range_json(lim::eps_end)},
+            {"snapshot_eps", range_json(lim::snapshot_eps)},
+            {"max_snapshots", compaction::kMaxSnapshots}}}};
+}
+
+}  // namespace
+
 void register_service_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::health, [&app](const httplib::Request&, httplib::Response& res) {
     const StoreMetrics m = app.store.reads.metrics();  // touches the database: a real check
@@ -53,6 +78,10 @@ void register_service_routes(httplib::Server& server, App& app) {
                      {"cfl", p.cfl}});
     }
     send_json(res, 200, {{"presets", out}, {"default", default_preset_name}});
+  });
+
+  add_route(server, endpoints::limits, [&app](const httplib::Request&, httplib::Response& res) {
+    send_json(res, 200, limits_json(app.limits));
   });
 
   if (!app.options.web_dir.empty() && !server.set_mount_point("/", app.options.web_dir)) {

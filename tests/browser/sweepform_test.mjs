@@ -1,9 +1,22 @@
 // The sweep form's rules (web/js/sweepform.js) and the planner's grid (web/js/sweepmath.js) in
 // plain node: what the browser shows next to each field, and the job count before submitting.
-import { test } from 'node:test';
+// The limits come from a real compaction-server (GET /api/v1/limits), as in the dashboard.
+import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { validateSweep, formFieldOf, coarsestCellsPerUnit } from '../../web/js/sweepform.js';
+import { validateSweep as validateWith, formFieldOf, coarsestCellsPerUnit } from '../../web/js/sweepform.js';
 import { expandAxis, sweepPhis } from '../../web/js/sweepmath.js';
+import { Harness } from './lib/harness.mjs';
+
+const harness = new Harness('sweepform');
+let limits = null;
+before(async () => {
+  await harness.startServer();
+  const r = await harness.api('/limits');
+  assert.equal(r.status, 200);
+  limits = r.json;
+});
+after(() => harness.close());
+const validateSweep = (v) => validateWith(v, limits);
 
 const base = { name: 'x', sMin: '1e-3', sMax: '1e-1', sN: '3', sScale: 'log', rMin: '1e-5', rMax: '1e-1', rN: '5', rScale: 'log', phi: '0.4', preset: 'fast', cpu: '', epsEnd: '', snapshots: '', priority: '0', attempts: '3' };
 

@@ -40,6 +40,7 @@ async function request(method, path, body) {
 export const api = {
   health: () => request('GET', '/health'),
   presets: () => request('GET', '/presets'),
+  limits: () => request('GET', '/limits'),
   phaseMap: (phi, sweep) =>
     request('GET', `/phase-map?phi=${encodeURIComponent(phi)}${sweep ? `&sweep=${sweep}` : ''}`),
   sweeps: (limit = 200) => request('GET', `/sweeps?limit=${limit}`),

@@ -1,9 +1,8 @@
 // Validation of the sweep form, without the DOM (tests/browser/sweepform_test.mjs runs it in
-// node). The rules mirror the server's (planner and scene schema) so a person sees the problem
-// next to the field before submitting; the server still validates everything.
+// node). The limits are the server's own (GET /api/v1/limits: the planner's rules and the
+// scene's ranges), so a person sees the problem next to the field before submitting; the
+// server still validates everything.
 import { expandAxis } from './sweepmath.js';
-
-export const MAX_POINTS = 2000; // the server's default --max-sweep-points
 
 const num = (s) => (typeof s === 'string' && s.trim() !== '' ? Number(s) : NaN);
 const isInt = (v) => Number.isInteger(v);
@@ -14,64 +13,73 @@ export function coarsestCellsPerUnit(phi) {
   return Math.ceil(Math.max(1 / s, 1 / (1 - s)) - 1e-12);
 }
 
-function axis(v, key, name, errors) {
+// "[0.2, 0.8]" or "(0, 1)", as the server writes a range.
+const show = (r) => `${r.open ? '(' : '['}${r.lo}, ${r.hi}${r.open ? ')' : ']'}`;
+const inside = (r, x) => (r.open ? x > r.lo && x < r.hi : x >= r.lo && x <= r.hi);
+
+function axis(v, key, name, range, maxPoints, errors) {
   const lo = num(v[`${key}Min`]), hi = num(v[`${key}Max`]), n = num(v[`${key}N`]);
   const scale = v[`${key}Scale`] === 'linear' ? 'linear' : 'log';
   const f = (s) => `${key}-${s}`;
   if (!Number.isFinite(lo)) errors[f('min')] = `${name} min must be a number`;
-  else if (!(lo > 0 && lo < 1)) errors[f('min')] = `${name} must be in (0, 1), got ${lo}`;
+  else if (!inside(range, lo)) errors[f('min')] = `${name} must be in ${show(range)}, got ${lo}`;
   if (!Number.isFinite(hi)) errors[f('max')] = `${name} max must be a number`;
-  else if (!(hi > 0 && hi < 1)) errors[f('max')] = `${name} must be in (0, 1), got ${hi}`;
+  else if (!inside(range, hi)) errors[f('max')] = `${name} must be in ${show(range)}, got ${hi}`;
   else if (Number.isFinite(lo) && lo > hi) errors[f('max')] = `max must be ≥ min (${lo})`;
   if (!isInt(n) || n < 1) errors[f('n')] = 'a whole number ≥ 1';
-  else if (n > MAX_POINTS) errors[f('n')] = `at most ${MAX_POINTS}`;
+  else if (n > maxPoints) errors[f('n')] = `at most ${maxPoints}`;
   return { min: lo, max: hi, n, scale };
 }
 
-// values: strings of the form fields. Returns {errors: {fieldId: message}, body, count, dims}.
-export function validateSweep(v) {
+// values: strings of the form fields; limits: the server's GET /api/v1/limits.
+// Returns {errors: {fieldId: message}, body, count, dims}.
+export function validateSweep(v, limits) {
+  const { sweep, scene } = limits;
   const errors = {};
   const name = (v.name || '').trim();
   if (!name) errors.name = 'give the sweep a name';
-  else if (name.length > 200) errors.name = 'at most 200 characters';
-  const S = axis(v, 's', 'S', errors);
-  const R = axis(v, 'r', 'R', errors);
+  else if (new TextEncoder().encode(name).length > sweep.name_max_bytes) errors.name = `at most ${sweep.name_max_bytes} bytes`;
+  const S = axis(v, 's', 'S', scene.S, sweep.max_points, errors);
+  const R = axis(v, 'r', 'R', scene.R, sweep.max_points, errors);
   const phiText = (v.phi || '').trim();
   const phis = phiText.split(/[\s,;]+/).filter(Boolean).map(Number);
   if (!phis.length) errors.phi = 'one or more values, e.g. 0.4 or 0.3, 0.4';
   else if (phis.some((p) => !Number.isFinite(p))) errors.phi = 'numbers separated by commas';
-  else if (phis.some((p) => p < 0.2 || p > 0.8)) errors.phi = 'φ must be in [0.2, 0.8] (the model is meant for 0.25 to 0.75)';
+  else if (phis.some((p) => !inside(scene.phi, p))) errors.phi = `φ must be in ${show(scene.phi)} (the model is meant for 0.25 to 0.75)`;
   else if (new Set(phis).size !== phis.length) errors.phi = 'a value is listed twice';
 
   const numerics = { preset: v.preset || 'default' };
   if ((v.cpu || '').trim() !== '') {
     const c = num(v.cpu);
-    if (!isInt(c) || c < 2 || c > 200) errors.cpu = 'a whole number from 2 to 200';
+    const cells = scene.cells_per_unit;
+    if (!isInt(c) || !inside(cells, c)) errors.cpu = `a whole number from ${cells.lo} to ${cells.hi}`;
     else {
-      const bad = phis.filter((p) => Number.isFinite(p) && p >= 0.2 && p <= 0.8 && c < coarsestCellsPerUnit(p));
+      const bad = phis.filter((p) => Number.isFinite(p) && inside(scene.phi, p) && c < coarsestCellsPerUnit(p));
       if (bad.length) errors.cpu = `too coarse for φ = ${bad[0]}: needs ≥ ${coarsestCellsPerUnit(bad[0])} so that holes and struts span a cell`;
       numerics.cells_per_unit = c;
     }
   }
   if ((v.epsEnd || '').trim() !== '') {
     const e = num(v.epsEnd);
-    if (!Number.isFinite(e) || e >= 0.95) errors['eps-end'] = 'a strain below 0.95 (≤ 0 or empty: until fully dense)';
+    if (!Number.isFinite(e) || e >= scene.eps_end.hi) errors['eps-end'] = `a strain below ${scene.eps_end.hi} (≤ 0 or empty: until fully dense)`;
     else numerics.eps_end = e;
   }
   if ((v.snapshots || '').trim() !== '') {
     const s = v.snapshots.split(/[\s,;]+/).filter(Boolean).map(Number);
-    if (s.some((x) => !Number.isFinite(x) || x < 0 || x > 0.95)) errors.snapshots = 'strains in [0, 0.95], separated by commas';
+    if (s.some((x) => !Number.isFinite(x) || !inside(scene.snapshot_eps, x))) errors.snapshots = `strains in ${show(scene.snapshot_eps)}, separated by commas`;
+    else if (s.length > scene.max_snapshots) errors.snapshots = `at most ${scene.max_snapshots} snapshots`;
     else numerics.snapshot_eps = s;
   }
-  const priority = (v.priority || '').trim() === '' ? 0 : num(v.priority);
-  if (!isInt(priority) || priority < -1000 || priority > 1000) errors.priority = 'a whole number from −1000 to 1000';
-  const attempts = (v.attempts || '').trim() === '' ? 3 : num(v.attempts);
-  if (!isInt(attempts) || attempts < 1 || attempts > 10) errors.attempts = 'a whole number from 1 to 10';
+  const pr = sweep.priority, at = sweep.max_attempts;
+  const priority = (v.priority || '').trim() === '' ? pr.default : num(v.priority);
+  if (!isInt(priority) || priority < pr.lo || priority > pr.hi) errors.priority = `a whole number from ${pr.lo} to ${pr.hi}`;
+  const attempts = (v.attempts || '').trim() === '' ? at.default : num(v.attempts);
+  if (!isInt(attempts) || attempts < at.lo || attempts > at.hi) errors.attempts = `a whole number from ${at.lo} to ${at.hi}`;
 
   const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
   const nPhi = errors.phi ? 0 : phis.length;
   const count = nS * nR * nPhi;
-  if (count > MAX_POINTS && !errors['s-n'] && !errors['r-n']) errors.count = `${count} jobs exceed the server's default limit of ${MAX_POINTS} per sweep`;
+  if (count > sweep.max_points && !errors['s-n'] && !errors['r-n']) errors.count = `${count} jobs exceed the server's limit of ${sweep.max_points} per sweep`;
   const body = {
     name,
     S: { min: S.min, max: S.max, n: S.n, scale: S.scale },

@@ -90,8 +90,15 @@ export function mount(root) {
     }
   }
 
+  // The server's rules of a sweep (GET /api/v1/limits), loaded once with the page.
+  let limits = null;
+
   function update() {
-    const r = validateSweep(values());
+    if (!limits) {
+      $('job-count').innerHTML = '<span class="muted">loading the server\'s limits…</span>';
+      return { ok: false, errors: {}, dims: [0, 0, 0], count: 0 };
+    }
+    const r = validateSweep(values(), limits);
     showErrors(r.errors, submitted);
     const [a, b, c] = r.dims;
     const cnt = $('job-count');
@@ -110,6 +117,11 @@ export function mount(root) {
     setSubmitToken($('f-token').value.trim());
     const r = update();
     const msg = $('form-message');
+    if (!limits) {
+      msg.className = 'form-message error';
+      msg.textContent = 'The server\'s limits are not loaded yet: is the server reachable?';
+      return;
+    }
     if (!r.ok) {
       msg.className = 'form-message error';
       msg.textContent = 'Please fix the fields marked in red.';
@@ -149,6 +161,12 @@ export function mount(root) {
       $('submit-sweep').disabled = false;
     }
   });
+
+  api.limits().then((l) => {
+    if (!alive) return;
+    limits = l;
+    update();
+  }).catch(() => {});
 
   api.presets().then((p) => {
     if (!alive) return;
