@@ -41,7 +41,7 @@
 #   FRESH_MIRROR      the Debian mirror for debootstrap (default http://deb.debian.org/debian)
 # Needs root (mount, chroot; it re-runs itself with sudo when it can), debootstrap (installed
 # with apt-get when missing) and the network to the Debian mirror and the npm registry.
-# Takes about 11 minutes on 2 cores, 27 when they are shared (README.md, "Known to work with").
+# Takes 11 minutes on 2 cores of its own, about 30 on shared ones (README.md has the times).
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
