@@ -1,4 +1,4 @@
-// Quantities derived from the model (docs: DESIGN.md, "The physics").
+// Quantities derived from the model (docs/engine.md, "Model"; Blatny et al., PRL 128, 228002, 2022).
 
 // Strut aspect ratio of the square lattice at solid fraction phi: unit cell side L, hole side
 // L sqrt(1 - phi), strut thickness t = L (1 - sqrt(1 - phi)), strut length L sqrt(1 - phi).
