@@ -10,6 +10,7 @@ usage: bench/reference/reference.py [--cells 20,30,40,60,80] [--runs DIR] [--bin
   --runs DIR         where the bundles live (default ./out/reference): a run whose bundle is
                      there is not made again
   --summarise-only   make no run, only summarise the bundles that exist
+The text below the notes marker of an existing docs/reference.md is kept.
 Cost: CPU seconds grow as (cells)^3; on this machine 40 cells takes about 490 s of CPU per run,
 60 cells about 3.4 times that, 80 cells about 8 times.
 """
@@ -146,8 +147,9 @@ def main():
             m1, m2, m3 = ms[-3:]
             p = observed_order(m1["cells"], m2["cells"], m3["cells"], m1[key], m2[key], m3[key])
             if p is None:
-                lines.append("- %s: the last three levels (%d, %d, %d cells) do not converge "
-                             "monotonically (%s, %s, %s): no observed order, no extrapolation."
+                lines.append("- %s: the changes between the last three levels (%d, %d, %d cells: "
+                             "%s, %s, %s) do not shrink monotonically: not in the asymptotic "
+                             "range, no observed order, no extrapolation."
                              % (key, m1["cells"], m2["cells"], m3["cells"], fmt(m1[key], 4),
                                 fmt(m2[key], 4), fmt(m3[key], 4)))
             else:
@@ -158,8 +160,15 @@ def main():
                              % (key, p, m1["cells"], m2["cells"], m3["cells"], fmt(limit, 4),
                                 100 * (m3[key] / limit - 1)))
         lines.append("")
+    # What people wrote below the marker (the reading of the numbers) is kept.
+    marker = "<!-- notes: kept when the tables are made again -->"
+    notes = ""
+    if os.path.exists(a.out):
+        old = open(a.out).read()
+        if marker in old:
+            notes = old[old.index(marker):]
     with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
+        f.write("\n".join(lines) + "\n" + (notes or marker + "\n"))
     print("\n".join(lines))
 
 
