@@ -8,6 +8,7 @@ import socket
 import subprocess
 import time
 
+import e2e_lib
 from e2e_lib import Env, TINY, bin_dir_from_args, check, stop
 
 env = Env(bin_dir_from_args(), "start")
@@ -47,6 +48,7 @@ env.submit({"name": "long", "points": [{"S": 0.01, "R": 1e-3, "phi": 0.4}], "num
 victim = subprocess.Popen([worker_bin, "--server", env.url, "--poll-interval", "0.2"],
                           env=dict(os.environ, TMPDIR=tmp), stdout=subprocess.DEVNULL,
                           stderr=subprocess.DEVNULL)
+e2e_lib._procs.append(victim)  # killed at exit if the test fails before it does
 folder = os.path.join(tmp, "compaction-worker-%d" % victim.pid)
 env.wait_for(lambda: os.path.isdir(folder) and any(n.startswith("job-") for n in os.listdir(folder)),
              30, "the worker's job folder")
@@ -56,6 +58,7 @@ check(os.path.isdir(folder), "kill -9 leaves the folder")
 survivor = subprocess.Popen([worker_bin, "--server", env.url, "--poll-interval", "0.2",
                              "--idle-exit", "2"], env=dict(os.environ, TMPDIR=tmp),
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+e2e_lib._procs.append(survivor)
 env.wait_for(lambda: not os.path.exists(folder), 20, "the next worker to remove the dead one's folder")
 own = os.path.join(tmp, "compaction-worker-%d" % survivor.pid)
 check(os.path.isdir(own), "while its own folder stays")
