@@ -1,4 +1,4 @@
-// Engine speed on the reference scene of the engine issue: pseudo-1D, phi = 0.4, 20 cells per
+// Engine speed on the reference scene: pseudo-1D, phi = 0.4, 20 cells per
 // unit cell, 2 x 2 particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one
 // thread unless the benchmark says otherwise. Reports ns per particle-step (time-stepping loop
 // only, scene building excluded) and its split by stage. Run it with bench/run_engine_bench.sh.

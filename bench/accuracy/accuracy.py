@@ -8,7 +8,7 @@ grid of numerics; each run's error against the finest run of its point.
 Numerics varied (one at a time from the base, 16 cells per unit cell, 2 x 2 particles per cell,
 APIC, MLS gradient, CFL 0.5): cells per unit cell 8, 12, 16, 20 and the reference 30; particles
 per cell 1 and 3; PIC/FLIP; CFL 0.25 and 1.0; the exact B-spline gradient at 16 and 20 cells.
-The engine keeps F and the transfers in double (the engine issue asks for double F); there is
+The engine keeps F and the transfers in double (small strain increments at low S need it); there is
 no float variant to measure.
 
 Errors against the reference (30 cells, same point, base numerics otherwise):

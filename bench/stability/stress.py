@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Numerical stability stress test of the engine (issue 6, first part).
+"""Numerical stability stress test of the engine.
 
 Runs compaction-run over the corners and edges of the box S in [1e-4, 0.3], R in [1e-6, 0.3],
 phi in [0.2, 0.8] at coarse resolution, plus pathological numerics (CFL near and past the
