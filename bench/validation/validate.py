@@ -243,7 +243,8 @@ def main():
                 cl = r["cls"]
                 md.append(f"| {x:.3g} | {r['R']:g} | {cl['class']} | {cl['n_reflections']} | "
                           f"{cl['features'].get('band_turns', '-')} | {fmt(cl['band_speed_ratio'])} | {r['wall']:.0f} |")
-            # The Fig. 3 checks (c_b/V rises with q_y/(rho V^2), N_r does not fall), over the points labelled (b), in order of q_y/(rho V^2)
+            # The Fig. 3 checks (c_b/V rises with q_y/(rho V^2), N_r does not fall), over the
+            # points labelled (b), in order of q_y/(rho V^2)
             b_pts = [(x, r["cls"]) for x, r in pts if r["cls"]["class"] == "b" and r["cls"]["band_speed_ratio"]]
             xs = [math.log(x) for x, _ in b_pts]
             ys = [math.log(c["band_speed_ratio"]) for _, c in b_pts]
