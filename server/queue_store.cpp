@@ -30,9 +30,8 @@ std::string token_folder_name(const std::string& token) {
 
 // Distinguishes "no such job" from "lease lost" after a guarded update changed nothing.
 LeaseCheck missing_or_lost(sqlite::Database& db, std::int64_t job_id) {
-  auto s = db.prepare("SELECT 1 FROM jobs WHERE id = ?");
-  s.bind(1, job_id);
-  return s.step() ? LeaseCheck::lost : LeaseCheck::unknown_job;
+  return db.has_row("SELECT 1 FROM jobs WHERE id = ?", job_id) ? LeaseCheck::lost
+                                                                : LeaseCheck::unknown_job;
 }
 
 }  // namespace

@@ -46,6 +46,12 @@ void Database::exec_script(const std::string& sql) {
 }
 
 std::int64_t Database::changes() const { return sqlite3_changes64(db_); }
+
+bool Database::has_row(std::string_view sql, std::int64_t id) {
+  Statement s = prepare(sql);
+  s.bind(1, id);
+  return s.step();
+}
 std::int64_t Database::last_insert_rowid() const { return sqlite3_last_insert_rowid(db_); }
 
 Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {

@@ -39,6 +39,8 @@ class Database {
   // Runs a script of several statements without parameters (migration files only).
   void exec_script(const std::string& sql);
   std::int64_t changes() const;
+  // Whether the query (with one id parameter) returns a row: "SELECT 1 FROM jobs WHERE id = ?".
+  bool has_row(std::string_view sql, std::int64_t id);
   std::int64_t last_insert_rowid() const;
   sqlite3* handle() { return db_; }
 

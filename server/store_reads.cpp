@@ -121,9 +121,7 @@ Page<SweepRecord> StoreReads::sweeps(int limit, int offset) {
 std::optional<std::vector<JobRecord>> StoreReads::sweep_jobs(std::int64_t id) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
-  auto exists = db->prepare("SELECT 1 FROM sweeps WHERE id = ?");
-  exists.bind(1, id);
-  if (!exists.step()) return std::nullopt;
+  if (!db->has_row("SELECT 1 FROM sweeps WHERE id = ?", id)) return std::nullopt;
   auto s = db->prepare(std::string("SELECT ") + job_columns +
                        " FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
                        " LEFT JOIN results r ON r.job_id = j.id"
@@ -230,9 +228,7 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
 std::optional<std::vector<ArtifactInfo>> StoreReads::artifacts(std::int64_t job_id) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
-  auto exists = db->prepare("SELECT 1 FROM jobs WHERE id = ?");
-  exists.bind(1, job_id);
-  if (!exists.step()) return std::nullopt;
+  if (!db->has_row("SELECT 1 FROM jobs WHERE id = ?", job_id)) return std::nullopt;
   auto s = db->prepare(
       "SELECT name, content_type, size FROM artifacts WHERE job_id = ? ORDER BY name");
   s.bind(1, job_id);

@@ -80,9 +80,7 @@ CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
 std::optional<std::int64_t> SweepStore::cancel(std::int64_t id, Millis now) {
   std::lock_guard lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
-  auto exists = db_.writer.prepare("SELECT cancelled_at FROM sweeps WHERE id = ?");
-  exists.bind(1, id);
-  if (!exists.step()) return std::nullopt;
+  if (!db_.writer.has_row("SELECT 1 FROM sweeps WHERE id = ?", id)) return std::nullopt;
   db_.writer.prepare("UPDATE sweeps SET cancelled_at = ?2 WHERE id = ?1 AND cancelled_at IS NULL")
       .bind(1, id)
       .bind(2, now)
