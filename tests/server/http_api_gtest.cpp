@@ -197,7 +197,10 @@ TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
   ASSERT_EQ(map["points"].size(), 1u);
   EXPECT_EQ(map["points"][0]["class"], "c");
   EXPECT_EQ(map["points"][0]["job_id"], id);
-  EXPECT_EQ(client->Get((path + "/artifacts/frames.csv").c_str())->body, "eps,sigma_top\n0.002,1\n");
+  const auto artifact = client->Get((path + "/artifacts/frames.csv").c_str());
+  EXPECT_EQ(artifact->body, "eps,sigma_top\n0.002,1\n");
+  // An artifact is data: no browser may guess another type for it.
+  EXPECT_EQ(artifact->get_header_value("X-Content-Type-Options"), "nosniff");
   const auto csv = client->Get(("/api/v1/sweeps/" + std::to_string(sweep) + "/export?format=csv").c_str());
   EXPECT_EQ(csv->status, 200);
   EXPECT_NE(csv->body.find(",c,0.7,b,"), std::string::npos) << csv->body;
