@@ -9,6 +9,7 @@
 #include "api_error.hpp"
 #include "safe_text.hpp"
 #include "compaction/bundle.hpp"
+#include "compaction/number_text.hpp"
 #include "compaction/params_json.hpp"
 #include "presets.hpp"
 
@@ -20,8 +21,8 @@ namespace {
 
 // Numerics keys a sweep may set (the rest of SceneParams is fixed by the model or per point).
 const std::set<std::string> numerics_keys = {
-    "preset", "cells_per_unit", "particles_per_cell", "cfl", "transfer", "flip_ratio",
-    "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed"};
+    "preset", "cells_per_strut", "cells_per_unit", "particles_per_cell", "cfl", "transfer",
+    "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed"};
 
 const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",
                                             "priority", "max_attempts"};
@@ -33,11 +34,7 @@ const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "
 
 bool finite_number(const json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+using text::num;
 
 int integer_in(const json& body, const char* key, int fallback, int lo, int hi) {
   if (!body.contains(key)) return fallback;
@@ -224,7 +221,7 @@ NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version) {
   NewSweep out{plan.name, plan.request.dump(), plan.priority, plan.max_attempts, {}};
   for (const SceneParams& p : plan.scenes) {
     out.jobs.push_back({job_identity(p, engine_version), canonical_scene(p), p.S, p.R, p.phi,
-                        p.eps_final(), p.cells_per_unit});
+                        p.eps_final(), p.grid_cells_per_unit()});
   }
   return out;
 }

@@ -3,17 +3,18 @@
 namespace compaction::server {
 
 const std::vector<Preset>& presets() {
-  // Points on the measured front of error against run time (docs/accuracy.md): 8 cells per
-  // unit cell labels (b)-(f) right at 1/16 of the default's cost; 20 is the coarsest grid that
-  // keeps all six of the paper's labels; 30 is the finest grid measured (the accuracy
-  // study's reference).
+  // Resolution is counted across the thinnest strut, L (1 - sqrt(1 - phi)), so that a preset
+  // means the same accuracy at every phi (8, 20 and 40 cells per unit cell at phi = 0.4). The
+  // errors are those of docs/reference.md against the converged band of example (a).
   static const std::vector<Preset> all = {
-      {"fast", "coarse grid for quick maps (8 cells per unit cell): about 1/16 of the default's "
-               "cost; labels (b)-(f) right, (a) comes out as (b)", 8, 2, 0.5},
-      {"default", "20 cells per unit cell: the coarsest grid that gives all six of the paper's "
-                  "labels", 20, 2, 0.5},
-      {"reference", "30 cells per unit cell, for convergence checks: about 3.4x the default's "
-                    "cost", 30, 2, 0.5},
+      {"fast", "1.8 cells across a strut (8 per unit cell at phi = 0.4): about 1/16 of the "
+               "default's cost; labels (b)-(f) right, (a) comes out as (b)", 1.8, 2, 0.5},
+      {"default", "4.5 cells across a strut (20 per unit cell at phi = 0.4): the coarsest grid "
+                  "that gives all six of the paper's labels; band speed of (a) 10-12 % fast",
+       4.5, 2, 0.5},
+      {"reference", "9 cells across a strut (40 per unit cell at phi = 0.4), for convergence "
+                    "checks: about 8x the default's cost; band speed of (a) within 3 % of the "
+                    "converged value", 9.0, 2, 0.5},
   };
   return all;
 }
@@ -26,7 +27,7 @@ const Preset* find_preset(std::string_view name) {
 }
 
 nlohmann::json preset_scene_json(const Preset& p) {
-  return {{"cells_per_unit", p.cells_per_unit},
+  return {{"cells_per_strut", p.cells_per_strut},
           {"particles_per_cell", p.particles_per_cell},
           {"cfl", p.cfl}};
 }

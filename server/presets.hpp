@@ -14,7 +14,7 @@ namespace compaction::server {
 struct Preset {
   std::string name;
   std::string description;
-  int cells_per_unit;      // grid cells along a unit cell's side              [-]
+  double cells_per_strut;  // grid cells across the thinnest strut, at any phi  [-]
   int particles_per_cell;  // per direction                                    [-]
   double cfl;              // time step factor                                 [-]
 };

@@ -35,6 +35,7 @@ json limits_json(const PlannerLimits& l) {
            {{"S", range_json(lim::S)},
             {"R", range_json(lim::R)},
             {"phi", range_json(lim::phi)},
+            {"cells_per_strut", range_json(lim::cells_per_strut)},
             {"cells_per_unit", range_json(lim::cells_per_unit)},
             {"eps_end", range_json(lim::eps_end)},
             {"snapshot_eps", range_json(lim::snapshot_eps)},
@@ -73,7 +74,7 @@ void register_service_routes(httplib::Server& server, App& app) {
     for (const Preset& p : presets()) {
       out.push_back({{"name", p.name},
                      {"description", p.description},
-                     {"cells_per_unit", p.cells_per_unit},
+                     {"cells_per_strut", p.cells_per_strut},
                      {"particles_per_cell", p.particles_per_cell},
                      {"cfl", p.cfl}});
     }

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "compaction/params.hpp"
+
 namespace compaction::server::views {
 
 using nlohmann::json;
@@ -60,6 +62,7 @@ json job(const JobRecord& j) {
               {"R", j.R},
               {"phi", j.phi},
               {"cells_per_unit", j.cells_per_unit},
+              {"cells_per_strut", j.cells_per_unit * strut_fraction(j.phi)},
               {"eps_end", j.eps_end},
               {"engine_version", j.engine_version},
               {"scene", json::parse(j.scene)},
@@ -139,6 +142,7 @@ json phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
                    {"job_id", p.job_id},
                    {"status", opt(p.status)},
                    {"cells_per_unit", p.cells_per_unit},
+                   {"cells_per_strut", p.cells_per_unit * strut_fraction(p.phi)},
                    {"eps_end", p.eps_end},
                    {"progress_eps", opt(p.progress_eps)}});
   }

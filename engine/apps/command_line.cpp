@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "compaction/number_text.hpp"
 #include "compaction/result.hpp"
 
 namespace compaction::cli {
@@ -25,12 +26,7 @@ bool parse_int(std::string_view text, long long& out) {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+using text::num;
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
 

@@ -60,8 +60,9 @@ int main(int argc, char** argv) {
   }
   if (mode == cli::ProgressMode::json) log->set_level(spdlog::level::warn);
 
-  log->info("scene S={} R={} phi={} geometry={} cells_per_unit={} eps_end={} out={}", p.S, p.R,
-            p.phi, to_string(p.geometry), p.cells_per_unit, p.eps_final(), opt.out_dir);
+  log->info("scene S={} R={} phi={} geometry={} cells_per_unit={} cells_per_strut={:.3g} "
+            "eps_end={} out={}", p.S, p.R, p.phi, to_string(p.geometry), p.grid_cells_per_unit(),
+            p.grid_cells_per_strut(), p.eps_final(), opt.out_dir);
 
   RunControl control;
   control.cancel = &g_cancel;

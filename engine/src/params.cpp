@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "compaction/number_text.hpp"
+
 namespace compaction {
 
 double SceneParams::lame_lambda() const {
@@ -16,15 +18,20 @@ double SceneParams::p_wave_speed() const {
   return std::sqrt((lame_lambda() + 2.0 * lame_mu()) / rho);
 }
 double SceneParams::hole_side() const { return unit_cell() * std::sqrt(1.0 - phi); }
+double strut_fraction(double phi) { return 1.0 - std::sqrt(1.0 - phi); }
+
+int SceneParams::grid_cells_per_unit() const {
+  if (cells_per_unit > 0) return cells_per_unit;
+  const double n = cells_per_strut / strut_fraction();
+  if (!(n >= 1.0 && n <= 1e6)) return 0;  // out of range or NaN: validate() says which field
+  // The fewest cells that reach cells_per_strut; the tolerance keeps a quotient that is a whole
+  // number up to round-off from taking one cell more.
+  return static_cast<int>(std::ceil(n - 1e-9));
+}
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+using text::num;
 
 // Adds an error unless the range holds v; NaN always fails.
 void check_range(std::vector<FieldError>& errors, const char* field, double v, const Range& r) {
@@ -65,7 +72,10 @@ std::vector<FieldError> validate(const SceneParams& p) {
   check_range(e, "h0", p.h0, limits::h0);
   check_range(e, "n_cols", p.n_cols, limits::n_cols);
   check_range(e, "n_rows", p.n_rows, limits::n_rows);
-  check_range(e, "cells_per_unit", p.cells_per_unit, limits::cells_per_unit);
+  if (p.cells_per_unit != 0) {
+    check_range(e, "cells_per_unit", p.cells_per_unit, limits::cells_per_unit);
+  }
+  check_range(e, "cells_per_strut", p.cells_per_strut, limits::cells_per_strut);
   check_range(e, "particles_per_cell", p.particles_per_cell, limits::particles_per_cell);
   check_range(e, "cfl", p.cfl, limits::cfl);
   check_range(e, "flip_ratio", p.flip_ratio, limits::flip_ratio);
@@ -85,19 +95,29 @@ std::vector<FieldError> validate(const SceneParams& p) {
     e.push_back({"d_eps", "too small: " + num(p.eps_final() / p.d_eps) +
                               " frames up to eps_end, at most 1e5"});
   }
+  if (e.empty() && p.cells_per_unit == 0 &&
+      !limits::cells_per_unit.contains(p.grid_cells_per_unit())) {
+    e.push_back({"cells_per_strut", num(p.cells_per_strut) + " cells across the strut at phi = " +
+                                        num(p.phi) + " take " +
+                                        num(p.cells_per_strut / p.strut_fraction()) +
+                                        " cells per unit cell, outside " +
+                                        to_string(limits::cells_per_unit)});
+  }
   if (e.empty()) {
     // Thin features must still be resolved: the hole and the strut need a grid cell each.
-    const double dx = p.unit_cell() / p.cells_per_unit;
+    const int cells_per_unit = p.grid_cells_per_unit();
+    const char* field = p.cells_per_unit != 0 ? "cells_per_unit" : "cells_per_strut";
+    const double dx = p.unit_cell() / cells_per_unit;
     const double strut = p.unit_cell() - p.hole_side();
     if (p.phi != 1.0 && (p.hole_side() < dx || strut < dx)) {
-      e.push_back({"cells_per_unit", "too coarse for phi = " + num(p.phi) + ": hole " +
-                                         num(p.hole_side() / dx) + " and strut " +
-                                         num(strut / dx) + " grid cells, need >= 1 each"});
+      e.push_back({field, "too coarse for phi = " + num(p.phi) + ": hole " +
+                              num(p.hole_side() / dx) + " and strut " + num(strut / dx) +
+                              " grid cells, need >= 1 each"});
     }
-    const double nodes = static_cast<double>(p.cols() * p.cells_per_unit + 5) *
-                         (p.n_rows * p.cells_per_unit + 5);
+    const double nodes = static_cast<double>(p.cols() * cells_per_unit + 5) *
+                         (p.n_rows * cells_per_unit + 5);
     if (nodes > 2e7) {
-      e.push_back({"cells_per_unit", "grid of " + num(nodes) + " nodes exceeds the limit of 2e7"});
+      e.push_back({field, "grid of " + num(nodes) + " nodes exceeds the limit of 2e7"});
     }
   }
   return e;

@@ -22,11 +22,12 @@ struct SplitMix64 {
 };
 
 void build_grid(const SceneParams& p, Grid& g) {
-  g.dx = p.unit_cell() / p.cells_per_unit;
+  const int cells_per_unit = p.grid_cells_per_unit();
+  g.dx = p.unit_cell() / cells_per_unit;
   g.inv_dx = 1.0 / g.dx;
   g.periodic_x = p.geometry == Geometry::pseudo1d;
-  g.cells_x = p.cols() * p.cells_per_unit;
-  g.cells_y = p.n_rows * p.cells_per_unit;
+  g.cells_x = p.cols() * cells_per_unit;
+  g.cells_y = p.n_rows * cells_per_unit;
   // Ghost nodes: a particle at distance >= 0 from an edge reaches one node beyond it, and the
   // stability checks stop a run before any particle gets further than 1.4 cells out.
   g.gy = 2;
@@ -79,7 +80,7 @@ Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
   // (centring it on the cell instead would force an even count and could miss phi by 10 %).
   // With an odd count the hole sits half a particle off centre, the same in every cell:
   // a translation of the whole structure, which leaves every strut and hole alike.
-  const int per_unit = p.cells_per_unit * p.particles_per_cell;  // particles per cell side
+  const int per_unit = p.grid_cells_per_unit() * p.particles_per_cell;  // particles per unit cell side
   const double spacing = g.dx / p.particles_per_cell;
   const int hole_n = std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0,
                                 per_unit - 1);

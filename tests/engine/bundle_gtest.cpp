@@ -1,6 +1,7 @@
 // The result bundle: written, read back equal, files in their documented formats.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -37,6 +38,11 @@ TEST(BundleGtest, WrittenBundleReadsBackEqual) {
   const Bundle b = read_bundle(dir);
   EXPECT_EQ(b.summary.at("engine_version"), engine_version());
   EXPECT_EQ(b.summary.at("status"), "ok");
+  // Both measures of the resolution: the override asked for and what it gives across a strut.
+  EXPECT_EQ(b.summary.at("params").at("cells_per_unit"), 6);
+  EXPECT_EQ(b.summary.at("grid").at("cells_per_unit"), 6);
+  EXPECT_DOUBLE_EQ(b.summary.at("grid").at("cells_per_strut").get<double>(),
+                   6 * (1 - std::sqrt(1 - p.phi)));
   EXPECT_EQ(b.result.n_particles, r.n_particles);
   EXPECT_EQ(b.result.steps, r.steps);
   EXPECT_EQ(b.result.spacetime.values, r.spacetime.values);  // float32 stored exactly

@@ -48,6 +48,32 @@ TEST(ParamsGtest, TooCoarseGridForTheStructureIsRejected) {
   EXPECT_TRUE(has_error(validate(p), "cells_per_unit"));
 }
 
+TEST(ParamsGtest, TheGridPutsAtLeastCellsPerStrutAcrossTheThinnestStrut) {
+  SceneParams p;  // 4.5 cells across the strut, no cells_per_unit
+  p.phi = 0.4;    // strut 1 - sqrt(0.6) = 0.2254 of the unit cell: 4.5 / 0.2254 = 19.96
+  EXPECT_EQ(p.grid_cells_per_unit(), 20);
+  EXPECT_NEAR(p.grid_cells_per_strut(), 20 * (1 - std::sqrt(0.6)), 1e-15);
+  p.phi = 0.25;   // strut 0.134: 33.6 -> 34 cells per unit cell
+  EXPECT_EQ(p.grid_cells_per_unit(), 34);
+  p.phi = 0.75;   // strut 0.5: exactly 9, which round-off must not turn into 10
+  EXPECT_EQ(p.grid_cells_per_unit(), 9);
+  p.cells_per_unit = 12;  // the override wins
+  EXPECT_EQ(p.grid_cells_per_unit(), 12);
+  EXPECT_DOUBLE_EQ(p.grid_cells_per_strut(), 6.0);
+}
+
+TEST(ParamsGtest, CellsPerStrutOutsideItsRangeOrTheGridsIsRejectedWithItsField) {
+  SceneParams p;
+  p.cells_per_strut = 0.5;
+  EXPECT_TRUE(has_error(validate(p), "cells_per_strut"));
+  p.cells_per_strut = 40.0, p.phi = 0.25;  // 40 / 0.134 = 298 cells per unit cell, above 200
+  ASSERT_TRUE(has_error(validate(p), "cells_per_strut"));
+  EXPECT_NE(validate(p)[0].message.find("cells per unit cell"), std::string::npos)
+      << validate(p)[0].message;
+  p.cells_per_unit = 100;  // an override within its range makes cells_per_strut moot
+  EXPECT_TRUE(validate(p).empty());
+}
+
 TEST(ParamsGtest, SolidColumnNeedsAnExplicitEndStrain) {
   SceneParams p;
   p.phi = 1.0;

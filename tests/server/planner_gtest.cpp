@@ -50,7 +50,8 @@ TEST(Planner, AGridIsTheProductOfItsAxesWithThePresetsNumerics) {
   ASSERT_EQ(p.scenes.size(), 6u);
   EXPECT_EQ(p.preset, "fast");
   for (const auto& s : p.scenes) {
-    EXPECT_EQ(s.cells_per_unit, 8);
+    EXPECT_EQ(s.cells_per_strut, 1.8);
+    EXPECT_EQ(s.grid_cells_per_unit(), 8);
     EXPECT_DOUBLE_EQ(s.eps_end, 0.05);
     EXPECT_EQ(s.phi, 0.4);
   }
@@ -63,10 +64,23 @@ TEST(Planner, AGridIsTheProductOfItsAxesWithThePresetsNumerics) {
 TEST(Planner, ExplicitNumericsOverrideThePreset) {
   json b = grid();
   b["numerics"]["cells_per_unit"] = 6;
-  EXPECT_EQ(plan_sweep(b).scenes[0].cells_per_unit, 6);
+  EXPECT_EQ(plan_sweep(b).scenes[0].grid_cells_per_unit(), 6);
   b["numerics"].erase("preset");
   b["numerics"].erase("cells_per_unit");
-  EXPECT_EQ(plan_sweep(b).scenes[0].cells_per_unit, 20) << "the default preset";
+  EXPECT_EQ(plan_sweep(b).scenes[0].cells_per_strut, 4.5) << "the default preset";
+  EXPECT_EQ(plan_sweep(b).scenes[0].grid_cells_per_unit(), 20) << "the default preset";
+}
+
+TEST(Planner, APresetGivesTheSameCellsPerStrutAtEveryPhi) {
+  json b = grid();
+  b["numerics"] = {{"preset", "default"}};
+  b["phi"] = json::array({0.25, 0.4, 0.6, 0.75});
+  for (const compaction::SceneParams& s : plan_sweep(b).scenes) {
+    // The fewest whole cells per unit cell that reach 4.5 across the strut: one cell fewer
+    // would miss it by the strut's share of a cell.
+    EXPECT_GE(s.grid_cells_per_strut(), 4.5) << "phi " << s.phi;
+    EXPECT_LT(s.grid_cells_per_strut() - s.strut_fraction(), 4.5) << "phi " << s.phi;
+  }
 }
 
 TEST(Planner, TheIssuesExampleBodyWorks) {

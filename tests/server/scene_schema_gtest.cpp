@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <vector>
 
 #include "compaction/params_json.hpp"
 
@@ -36,13 +37,23 @@ TEST(SceneSchema, DefaultsAreTheEnginesDefaults) {
 TEST(SceneSchema, NumericBoundsAgreeWithValidate) {
   const json props = schema()["properties"];
   for (const auto& [key, p] : props.items()) {
-    for (const char* bound : {"minimum", "maximum"}) {
-      if (!p.contains(bound) || key == "snapshot_eps") continue;
-      compaction::SceneParams s;
-      json j = {{key, p[bound]}};
-      // Two cells per unit resolve hole and strut only where both are half the cell: phi 0.75.
-      if (key == "cells_per_unit") j["phi"] = 0.75;
-      EXPECT_TRUE(compaction::from_json(j, s).empty()) << key << " at its " << bound;
+    // A key's bounds, or those of each branch of its oneOf (cells_per_unit: 0, or a range).
+    std::vector<json> ranges = {p};
+    for (const json& branch : p.value("oneOf", json::array())) ranges.push_back(branch);
+    for (const json& r : ranges) {
+      for (const char* bound : {"minimum", "maximum"}) {
+        if (!r.contains(bound) || key == "snapshot_eps") continue;
+        compaction::SceneParams s;
+        json j = {{key, r[bound]}};
+        // Two cells per unit (one across the strut) resolve hole and strut only where both are
+        // half the cell, phi = 0.75; there, too, the finest strut stays within 200 cells per unit.
+        if (key == "cells_per_unit" || key == "cells_per_strut") j["phi"] = 0.75;
+        EXPECT_TRUE(compaction::from_json(j, s).empty()) << key << " at its " << bound;
+      }
+      if (r.contains("const")) {
+        compaction::SceneParams s;
+        EXPECT_TRUE(compaction::from_json({{key, r["const"]}}, s).empty()) << key << " = const";
+      }
     }
     for (const char* bound : {"exclusiveMinimum", "exclusiveMaximum"}) {
       if (!p.contains(bound)) continue;

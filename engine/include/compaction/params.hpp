@@ -57,7 +57,8 @@ inline constexpr Range q_y{1e-9, 1e15};
 inline constexpr Range h0{1e-9, 1e9};
 inline constexpr Range n_cols{1, 200};
 inline constexpr Range n_rows{1, 400};
-inline constexpr Range cells_per_unit{2, 200};
+inline constexpr Range cells_per_unit{2, 200};     // when set (> 0); 0 means from cells_per_strut
+inline constexpr Range cells_per_strut{1.0, 50.0};
 inline constexpr Range particles_per_cell{1, 4};
 inline constexpr Range cfl{0.0, 2.0, true};
 inline constexpr Range flip_ratio{0.0, 1.0};
@@ -67,6 +68,10 @@ inline constexpr Range threads{1, 256};
 inline constexpr Range eps_end{0.0, 0.95, true};  // when set (> 0); <= 0 means 1 - phi
 inline constexpr Range snapshot_eps{0.0, 0.95};
 }  // namespace limits
+
+// The thinnest strut between two square holes of a regular structure of solid fraction phi, as
+// a fraction of the unit cell: 1 - sqrt(1 - phi) (1 for the solid column, phi = 1).
+double strut_fraction(double phi);
 
 struct SceneParams {
   // Dimensionless inputs (the paper's Eq. 3).
@@ -85,8 +90,11 @@ struct SceneParams {
   int n_cols = 17;  // unit cells across (full2d only; pseudo1d always has one)  [-]
   int n_rows = 34;  // unit cells along the compression axis                     [-]
 
-  // Numerics.
-  int cells_per_unit = 20;      // grid cells along one unit cell's side          [-]
+  // Numerics. The grid is given by the cells across the thinnest strut, so that one setting
+  // means the same accuracy at every phi; cells_per_unit overrides it when set.
+  double cells_per_strut = 4.5; // at least this many grid cells across a strut   [-]
+  int cells_per_unit = 0;       // > 0: grid cells along a unit cell's side, overriding
+                                // cells_per_strut; 0: the fewest that give cells_per_strut [-]
   int particles_per_cell = 2;   // particles per grid cell per direction (2 -> 2x2) [-]
   double cfl = 0.5;             // dt = cfl * dx / (c_P + max particle speed)    [-]
   Transfer transfer = Transfer::apic;
@@ -112,6 +120,9 @@ struct SceneParams {
   double plate_speed() const { return S * bar_wave_speed(); }             // V  [m/s]
   double unit_cell() const { return h0 / n_rows; }                        // L  [m]
   double hole_side() const;          // L sqrt(1 - phi)                        [m]
+  double strut_fraction() const { return compaction::strut_fraction(phi); }
+  int grid_cells_per_unit() const;   // cells_per_unit, or derived from cells_per_strut [-]
+  double grid_cells_per_strut() const { return grid_cells_per_unit() * strut_fraction(); }
   int cols() const { return geometry == Geometry::pseudo1d ? 1 : n_cols; }
   double width() const { return cols() * unit_cell(); }                   //    [m]
 };

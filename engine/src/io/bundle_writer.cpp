@@ -112,7 +112,12 @@ json summary_json(const SceneParams& p, const RunResult& r) {
       {"failed_step", r.failed_step},
       {"seed", p.seed},
       {"n_particles", r.n_particles},
-      {"grid", {{"nx", r.grid_nx}, {"ny", r.grid_ny}, {"dx", r.dx}}},
+      {"grid",
+       {{"nx", r.grid_nx},
+        {"ny", r.grid_ny},
+        {"dx", r.dx},
+        {"cells_per_unit", p.grid_cells_per_unit()},
+        {"cells_per_strut", p.grid_cells_per_strut()}}},
       {"phi_discrete", r.phi_discrete},
       {"steps", r.steps},
       {"dt_mean", r.dt_mean},
@@ -150,11 +155,12 @@ json summary_json(const SceneParams& p, const RunResult& r) {
 }
 
 std::size_t bundle_size_bound(const SceneParams& p) {
-  const double cells = static_cast<double>(p.cells_per_unit) * p.cells_per_unit * p.cols() * p.n_rows;
+  const double cells_per_unit = p.grid_cells_per_unit();
+  const double cells = cells_per_unit * cells_per_unit * p.cols() * p.n_rows;
   const double ppc = static_cast<double>(p.particles_per_cell) * p.particles_per_cell;
   const double particles = std::min(1.0, p.phi) * cells * ppc * 1.05 + 1000;  // rounding margin
   const double frames = p.eps_final() / p.d_eps + 2;
-  const double grid_rows = static_cast<double>(p.cells_per_unit) * p.n_rows + 8;
+  const double grid_rows = cells_per_unit * p.n_rows + 8;
   constexpr double png_bound = 1400.0 * 1400.0 * 3 + (1 << 16);  // an uncompressed picture
   const double bytes = static_cast<double>(p.snapshot_eps.size()) * (20 * particles + png_bound) +
                        2 * frames * grid_rows * 4 + frames * 512 + png_bound + (1 << 20);
