@@ -19,6 +19,7 @@ import csv
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -33,7 +34,12 @@ FORMAL_ORDER = 2
 def run(bin_dir, runs, ex, cells):
     out = os.path.join(runs, "%s-%d" % (ex, cells))
     if os.path.exists(os.path.join(out, "summary.json")):
-        return
+        with open(os.path.join(out, "summary.json")) as f:
+            status = json.load(f)["status"]
+        if status != "cancelled":
+            return
+        # A run stopped by SIGTERM wrote a complete bundle of a shorter run: make it again.
+        shutil.rmtree(out)
     t0 = time.time()
     cpu0 = os.times()
     subprocess.run([os.path.join(bin_dir, "compaction-run"), "--S", str(S), "--R", str(EXAMPLES[ex]),
@@ -59,6 +65,9 @@ def measure(bin_dir, runs, ex, cells):
     d = os.path.join(runs, "%s-%d" % (ex, cells))
     if not os.path.exists(os.path.join(d, "summary.json")):
         return None
+    with open(os.path.join(d, "summary.json")) as fh:
+        if json.load(fh)["status"] == "cancelled":
+            return None  # stopped before eps_end: not a level of the study
     c = json.loads(subprocess.run([os.path.join(bin_dir, "compaction-classify"), "--compact", d],
                                   capture_output=True, text=True, check=True).stdout)
     f = c.get("features", {})
