@@ -1,0 +1,6 @@
+"""Python client of the compaction-sweep service (docs/python.md)."""
+from .client import RESULT_COLUMNS, ApiError, Client, linear_axis, log_axis
+from .npy import NpyError
+
+__version__ = "0.1.0"
+__all__ = ["ApiError", "Client", "NpyError", "RESULT_COLUMNS", "linear_axis", "log_axis"]
