@@ -9,6 +9,9 @@ packages=(
   libsqlite3-dev sqlite3 nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libcli11-dev
   python3 curl
+  # the Python client's venv (docs/python.md): venv with pip and setuptools, and the wheel of
+  # `wheel` that an offline venv builds the package with
+  python3-venv python3-wheel-whl
 )
 for arg in "$@"; do
   case "$arg" in

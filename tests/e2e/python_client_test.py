@@ -1,0 +1,240 @@
+"""End to end: the Python client (python/), installed with pip into a venv in a temporary folder
+(offline: no index, the interpreter's own setuptools, Debian's wheel of `wheel` when the venv
+lacks it), drives a real server with tokens and one real worker. It submits a tiny grid at the
+fastest preset, waits with the progress bar, and reads the results, the phase map, the
+artifacts and the space-time map, each with and without pandas and numpy as far as this
+interpreter has them; a timeout, a cancel, a points sweep that reuses the grid's results, and
+bad requests that raise ApiError with the server's own status, field and message.
+
+The script runs twice: first with the interpreter ctest gives it, which makes the venv and
+installs the package, then with the venv's interpreter (COMPACTION_E2E_CLIENT_VENV set), which
+runs the checks, so that the package is imported from the venv and not from the source tree."""
+import contextlib
+import io
+import math
+import os
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+
+from e2e_lib import Env, bin_dir_from_args, check, fail, stop
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PACKAGE_DIR = os.path.join(HERE, "..", "..", "python")
+# Debian's wheels of pip, setuptools and wheel (python3-pip-whl, python3-setuptools-whl,
+# python3-wheel-whl): what an offline venv can install its build tools from.
+DEBIAN_WHEELS = "/usr/share/python-wheels"
+STAGE_VARIABLE = "COMPACTION_E2E_CLIENT_VENV"
+
+
+def run(command, what):
+    p = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                       env=dict(os.environ, PIP_DISABLE_PIP_VERSION_CHECK="1"))
+    check(p.returncode == 0, "%s failed (%s):\n%s" % (what, " ".join(command), p.stdout[-4000:]))
+
+
+def install_in_venv(folder):
+    """Copies the package (pip builds in the source folder) and pip-installs it into a new venv;
+    returns the venv's interpreter."""
+    source = os.path.join(folder, "python")
+    shutil.copytree(PACKAGE_DIR, source,
+                    ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    venv = os.path.join(folder, "venv")
+    # The system's site packages stay visible: pandas and numpy are used where installed.
+    run([sys.executable, "-m", "venv", "--system-site-packages", venv], "python3 -m venv")
+    python = os.path.join(venv, "bin", "python")
+    missing = [m for m in ("setuptools", "wheel")
+               if subprocess.run([python, "-c", "import " + m]).returncode != 0]
+    if missing:
+        check(os.path.isdir(DEBIAN_WHEELS),
+              "the venv lacks %s and %s is missing (scripts/install-deps.sh installs it)"
+              % (" and ".join(missing), DEBIAN_WHEELS))
+        run([python, "-m", "pip", "install", "--no-index", "--no-cache-dir", "--find-links",
+             DEBIAN_WHEELS, *missing], "installing " + " and ".join(missing))
+    run([python, "-m", "pip", "install", "--no-index", "--no-cache-dir", "--no-build-isolation",
+         source], "pip install of python/")
+    return python
+
+
+if not os.environ.get(STAGE_VARIABLE):
+    bin_dir = bin_dir_from_args()
+    folder = tempfile.mkdtemp(prefix="compaction-e2e-python-venv-")
+    try:
+        python = install_in_venv(folder)
+        code = subprocess.run([python, os.path.abspath(__file__), bin_dir],
+                              env=dict(os.environ, **{STAGE_VARIABLE: "1"})).returncode
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    sys.exit(code)
+
+# --- in the venv ---
+import compaction_client  # noqa: E402
+from compaction_client import RESULT_COLUMNS, ApiError, Client, NpyError, log_axis  # noqa: E402
+
+
+def importable(name):
+    try:
+        __import__(name)
+        return True
+    except ImportError:
+        return False
+
+
+def raises(call, kind):
+    try:
+        call()
+    except kind as e:
+        return e
+    fail("%s was not raised" % kind.__name__)
+
+
+check(os.path.abspath(compaction_client.__file__).startswith(os.path.abspath(sys.prefix)),
+      "the package is imported from the venv: %s" % compaction_client.__file__)
+has_pandas, has_numpy = importable("pandas"), importable("numpy")
+print("pandas %s, numpy %s" % ("installed" if has_pandas else "absent",
+                               "installed" if has_numpy else "absent"))
+
+SUBMIT, WORKER = "submit-secret", "worker-secret"
+TINY = {"eps_end": 0.03}  # at the fast preset: a second or so per job
+env = Env(bin_dir_from_args(), "python-client")
+env.start_server("--submit-token", SUBMIT, "--worker-token", WORKER)
+os.environ.pop("COMPACTION_SUBMIT_TOKEN", None)
+client = Client(env.url, token=SUBMIT)
+
+check(Client(env.url + "/api/v1/").health()["engine_version"] == env.get("/api/v1/health")["engine_version"],
+      "a url ending in /api/v1/ names the same server")
+check("fast" in [p["name"] for p in client.presets()["presets"]], "the presets")
+check(client.limits()["scene"]["phi"]["lo"] == 0.2, "the limits")
+
+# --- errors carry the server's status, field and message ---
+grid = {"name": "bad", "S": 1e-2, "R": 1e-3, "phi": 0.9, "numerics": {"preset": "fast"}}
+status, said = env.request("POST", "/api/v1/sweeps", grid, token=SUBMIT)
+e = raises(lambda: client.submit_grid("bad", 1e-2, 1e-3, 0.9, preset="fast"), ApiError)
+check(status == 422 and e.status == 422 and e.field == "phi" == said["error"]["field"]
+      and e.message == said["error"]["message"] and "[0.2, 0.8]" in e.message,
+      "phi = 0.9: %r against the server's %s" % (e, said))
+check(str(e) == "POST /api/v1/sweeps: 422 phi: " + said["error"]["message"], "str: %s" % e)
+e = raises(lambda: Client(env.url).submit_grid("t", 1e-2, 1e-3, 0.4), ApiError)
+check(e.status == 401 and e.field == "Authorization" and "Bearer token is required" in e.message,
+      "no token: %r" % e)
+e = raises(lambda: Client(env.url, token="wrong").submit_grid("t", 1e-2, 1e-3, 0.4), ApiError)
+check(e.status == 403 and e.message == "wrong token", "a wrong token: %r" % e)
+e = raises(lambda: client.submit_grid("t", 1e-2, 1e-3, 0.4, preset="quick"), ApiError)
+check(e.status == 422 and e.field == "numerics.preset" and "fast" in e.message, "preset: %r" % e)
+e = raises(lambda: client.submit_points("t", [{"S": 1e-2, "R": 1e-3, "phi": 0.9},
+                                              {"S": 1e-2, "R": 1e-3}]), ApiError)
+check(e.status == 422 and e.field == "points[0].phi", "the first bad point is named: %r" % e)
+e = raises(lambda: client.sweep(999999), ApiError)
+check(e.status == 404 and e.message == "no such sweep", "unknown sweep: %r" % e)
+e = raises(lambda: client.submit_points("t", [(1e-2, 1e-3)]), ValueError)
+check("points[0]" in str(e) and "2 values" in str(e), "a point of two values: %s" % e)
+check(client.sweeps() == [], "refused requests created nothing")
+
+# --- no worker yet: a wait times out, a cancel ends the sweep ---
+lone = client.submit_grid("lone", 0.2, 1e-2, 0.4, preset="fast", numerics=TINY)
+e = raises(lambda: client.wait(lone, progress=False, timeout=0), TimeoutError)
+check("1 queued" in str(e), "the timeout says what is left: %s" % e)
+check(client.cancel(lone) == {"id": lone["id"], "cancelled_jobs": 1}, "cancel")
+check(client.wait(lone, progress=False)["state"] == "cancelled", "a cancelled sweep ends a wait")
+
+# --- a tiny grid at the fastest preset, run by one real worker ---
+sweep = client.submit_grid("tiny", log_axis(0.05, 0.1, 2), [1e-3], 0.4, preset="fast",
+                           numerics=TINY, priority=5)
+check(sweep["created"]["new"] == 2 and sweep["created"]["preset"] == "fast", "created: %s" % sweep)
+worker = env.start_worker("w1", "--token", WORKER)
+bar = io.StringIO()
+with contextlib.redirect_stderr(bar):
+    done = client.wait(sweep["id"], timeout=120, poll=0.2)
+check(done["state"] == "done" and done["counts"]["succeeded"] == 2, "done: %s" % done["counts"])
+last = bar.getvalue().split("\r")[-1]
+check(last.startswith("sweep %d [%s]" % (sweep["id"], "#" * 30)) and " 2/2 done, 0 failed, 0:"
+      in last and last.endswith("\n"), "the progress bar's last line: %r" % last)
+
+rows = client.results(sweep, frame=False)
+check(sorted(r["S"] for r in rows) == [0.05, 0.1] and all(r["R"] == 1e-3 for r in rows),
+      "a row per point: %s" % rows)
+for r in rows:
+    check(r["state"] == "succeeded" and r["status"] in ("ok", "unstable")
+          and r["source_revision"] and r["engine_version"] and r["cells_per_unit"] == 8
+          and r["eps_end"] == 0.03, "row of job %d: %s" % (r["job_id"], r))
+    check(set(RESULT_COLUMNS) <= set(r) and "scene" not in r, "columns of job %d" % r["job_id"])
+if has_pandas:
+    frame = client.results(sweep)
+    check(type(frame).__name__ == "DataFrame" and list(frame.columns) == list(rows[0])
+          and sorted(frame["job_id"]) == sorted(r["job_id"] for r in rows),
+          "results as a DataFrame:\n%s" % frame)
+else:
+    check(client.results(sweep) == rows, "results without pandas: the list of dicts")
+    e = raises(lambda: client.results(sweep, frame=True), ImportError)
+    check("pandas" in str(e), "frame=True without pandas says so: %s" % e)
+
+points = client.phase_map(0.4, sweep=sweep, frame=False)
+check(sorted(p["job_id"] for p in points) == sorted(r["job_id"] for r in rows)
+      and all(p["state"] == "succeeded" for p in points), "the phase map: %s" % points)
+check(len(client.phase_map(0.4, frame=False)) == 3, "the phase map of all sweeps (the cancelled job too)")
+check(client.phase_map(0.5, frame=False) == [], "nothing at phi = 0.5")
+if has_pandas:
+    check(len(client.phase_map(0.4, sweep=sweep)) == 2, "the phase map as a DataFrame")
+
+# --- artifacts and the space-time map ---
+job_id = rows[0]["job_id"]
+listed = {a["name"]: a for a in client.artifacts(job_id)}
+for name in ("summary.json", "frames.csv", "spacetime.npy", "spacetime.png", "velocity.npy"):
+    check(name in listed, "artifact %s (have %s)" % (name, sorted(listed)))
+data = client.artifact(job_id, "spacetime.npy")
+check(len(data) == listed["spacetime.npy"]["size"], "the size listed is the size downloaded")
+folder = os.path.join(env.dir, "bundle")
+os.makedirs(folder)
+path = client.download(job_id, "spacetime.npy", folder)
+with open(path, "rb") as f:
+    check(f.read() == data, "download writes the artifact's bytes")
+written = client.download_bundle(job_id, os.path.join(folder, "all"))
+check(sorted(os.path.basename(p) for p in written) == sorted(listed)
+      and all(os.path.getsize(p) == listed[os.path.basename(p)]["size"] for p in written),
+      "download_bundle writes every artifact")
+e = raises(lambda: client.artifact(job_id, "nothing.npy"), ApiError)
+check(e.status == 404 and e.field == "name", "an unknown artifact: %r" % e)
+
+summary = client.job(job_id)["result"]["summary"]
+n_frames, n_rows = summary["spacetime"]["shape"]
+lists = client.spacetime(job_id, array=False)
+check(len(lists) == n_frames and all(len(row) == n_rows for row in lists),
+      "the space-time map is [%d, %d] as summary.json says" % (n_frames, n_rows))
+flat = [v for row in lists for v in row]
+# The data of a format 1.0 file start after the 10 bytes of magic, version and length and the
+# header: read here with struct, apart from the client's reader.
+offset = 10 + struct.unpack_from("<H", data, 8)[0]
+check(flat == list(struct.unpack_from("<%df" % len(flat), data, offset))
+      and all(math.isfinite(v) and v >= 0 for v in flat),
+      "the values are the file's float32 rates")
+velocity = client.load_npy(job_id, "velocity.npy", array=False)
+check([len(velocity), len(velocity[0])] == summary["velocity"]["shape"], "velocity.npy's shape")
+if has_numpy:
+    import numpy
+    grid_map = client.spacetime(job_id)
+    check(isinstance(grid_map, numpy.ndarray) and grid_map.shape == (n_frames, n_rows)
+          and grid_map.dtype == numpy.float32 and grid_map.tolist() == lists,
+          "the space-time map as a numpy array equals the lists")
+else:
+    check(client.spacetime(job_id) == lists, "without numpy: nested lists")
+    e = raises(lambda: client.spacetime(job_id, array=True), ImportError)
+    check("numpy" in str(e), "array=True without numpy says so: %s" % e)
+e = raises(lambda: client.load_npy(job_id, "summary.json"), NpyError)
+check("not a .npy file" in str(e), "a file that is not .npy: %s" % e)
+
+# --- explicit points: both were computed by the grid, so nothing runs again ---
+again = client.submit_points("again", [(0.05, 1e-3, 0.4), {"S": 0.1, "R": 1e-3, "phi": 0.4}],
+                             preset="fast", numerics=TINY)
+check(again["created"]["reused"] == 2 and again["created"]["new"] == 0, "reuse: %s" % again)
+check(client.wait(again, progress=False)["counts"]["succeeded"] == 2, "the points sweep is done")
+check(sorted(s["id"] for s in client.sweeps()) == sorted([lone["id"], sweep["id"], again["id"]]),
+      "every sweep is listed")
+check(len(client.jobs(sweep=sweep)) == 2 and len(client.jobs(state="cancelled")) == 1
+      and len(client.jobs(phi=0.4)) == 3, "jobs by sweep, state and phi")
+
+check(stop(worker, signal.SIGTERM) == 0, "the worker exits 0 on SIGTERM")
+check(stop(env.server, signal.SIGTERM) == 0, "the server exits 0 on SIGTERM")
+print("ok")
