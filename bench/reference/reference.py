@@ -106,6 +106,47 @@ def observed_order(c1, c2, c3, f1, f2, f3):
     return 0.5 * (lo + hi)
 
 
+def converged(ms, key):
+    """The converged value of one quantity from the levels ms (coarse to fine, at least three):
+    {"value", "uncertainty" (relative), "extrapolated", "how" (a sentence)}. Where the last three
+    levels are in the asymptotic range, the Richardson limit with Roache's grid convergence index;
+    an observed order above the scheme's formal order is no evidence of faster convergence (the
+    levels are not yet asymptotic), so the extrapolation uses at most the formal order, and the
+    index (safety factor 1.25 for three levels) is the uncertainty. Otherwise the finest level,
+    with its last change as the uncertainty (a lower bound: the levels have not settled)."""
+    m1, m2, m3 = ms[-3:]
+    p = observed_order(m1["cells"], m2["cells"], m3["cells"], m1[key], m2[key], m3[key])
+    if p is None:
+        return {"value": m3[key], "uncertainty": abs(m3[key] / m2[key] - 1), "extrapolated": False,
+                "how": "the changes between the last three levels (%d, %d, %d cells: %s, %s, %s) "
+                       "do not shrink monotonically: not in the asymptotic range, no observed "
+                       "order, no extrapolation."
+                       % (m1["cells"], m2["cells"], m3["cells"], fmt(m1[key], 4), fmt(m2[key], 4),
+                          fmt(m3[key], 4))}
+    r = m3["cells"] / m2["cells"]
+    p_used = min(p, FORMAL_ORDER)
+    limit = m3[key] + (m3[key] - m2[key]) / (r ** p_used - 1)
+    gci = 1.25 * abs(m3[key] - m2[key]) / (r ** p_used - 1) / abs(m3[key])
+    return {"value": limit, "uncertainty": gci, "extrapolated": True,
+            "how": "observed order %.2f from %d, %d, %d cells%s; Richardson limit %s (order %.1f), "
+                   "grid convergence index %.1f %% of the finest run."
+                   % (p, m1["cells"], m2["cells"], m3["cells"],
+                      " (above the formal order %d: not yet asymptotic)" % FORMAL_ORDER
+                      if p > FORMAL_ORDER else "", fmt(limit, 4), p_used, 100 * gci)}
+
+
+def reference(bin_dir, runs, ex, cells):
+    """The converged reference of example ex from the study's bundles: {"fit", "transit",
+    "plateau": converged() of each, "finest": the finest level's measure() and bundle "dir"};
+    None with fewer than three finished levels."""
+    ms = [m for m in (measure(bin_dir, runs, ex, c) for c in sorted(cells)) if m]
+    if len(ms) < 3:
+        return None
+    out = {key: converged(ms, key) for key in ("fit", "transit", "plateau")}
+    out["finest"] = dict(ms[-1], dir=os.path.join(runs, "%s-%d" % (ex, ms[-1]["cells"])))
+    return out
+
+
 def fmt(v, digits=3):
     return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else ("%.*g" % (digits, v))
 
@@ -153,30 +194,8 @@ def main():
                 for p, q in zip(ms, ms[1:])) + ".")
             lines.append("")
         for key in ("fit", "transit", "plateau"):
-            if len(ms) < 3:
-                break
-            m1, m2, m3 = ms[-3:]
-            p = observed_order(m1["cells"], m2["cells"], m3["cells"], m1[key], m2[key], m3[key])
-            if p is None:
-                lines.append("- %s: the changes between the last three levels (%d, %d, %d cells: "
-                             "%s, %s, %s) do not shrink monotonically: not in the asymptotic "
-                             "range, no observed order, no extrapolation."
-                             % (key, m1["cells"], m2["cells"], m3["cells"], fmt(m1[key], 4),
-                                fmt(m2[key], 4), fmt(m3[key], 4)))
-            else:
-                # Roache's grid convergence index: an observed order above the scheme's formal
-                # order is no evidence of faster convergence (the levels are not yet
-                # asymptotic), so the extrapolation uses at most the formal order, and the
-                # index (safety factor 1.25 for three levels) is the stated uncertainty.
-                r = m3["cells"] / m2["cells"]
-                p_used = min(p, FORMAL_ORDER)
-                limit = m3[key] + (m3[key] - m2[key]) / (r ** p_used - 1)
-                gci = 1.25 * abs(m3[key] - m2[key]) / (r ** p_used - 1) / abs(m3[key])
-                lines.append("- %s: observed order %.2f from %d, %d, %d cells%s; Richardson limit "
-                             "%s (order %.1f), grid convergence index %.1f %% of the finest run."
-                             % (key, p, m1["cells"], m2["cells"], m3["cells"],
-                                " (above the formal order %d: not yet asymptotic)" % FORMAL_ORDER
-                                if p > FORMAL_ORDER else "", fmt(limit, 4), p_used, 100 * gci))
+            if len(ms) >= 3:
+                lines.append("- %s: %s" % (key, converged(ms, key)["how"]))
         lines.append("")
     # What people wrote below the marker (the reading of the numbers) is kept.
     marker = "<!-- notes: kept when the tables are made again -->"
