@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -151,6 +152,15 @@ JobRunner::Watched JobRunner::watch(const LeasedJob& job, ChildProcess& child) {
 JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::string& out_dir,
                            const std::string& stderr_file) {
   const std::string err_tail = tail_of_file(stderr_file, 2000);
+  // The runner exits 3 when a SIGTERM or SIGINT that this worker did not send stops it (before
+  // its handler is installed, the signal kills it). A batch system sends one to every process
+  // of the job at its time limit or on scancel, and the worker's own signal may come a moment
+  // later: the run did not fail, so the job goes back to the queue without counting the attempt.
+  if ((!w.exit.signaled && w.exit.code == 3) ||
+      (w.exit.signaled && (w.exit.code == SIGTERM || w.exit.code == SIGINT))) {
+    spdlog::info("job {}: the runner was stopped from outside ({})", job.id, w.exit.describe());
+    return release(job);
+  }
   if (w.exit.signaled) {
     return report_failure(job, "runner crashed: " + w.exit.describe() +
                                    (err_tail.empty() ? "" : "; stderr: " + err_tail),
@@ -164,8 +174,6 @@ JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::st
       return upload(job, out_dir);
     case 2:
       return report_failure(job, "invalid input: " + err_tail, false);
-    case 3:
-      return report_failure(job, "the runner was cancelled by someone else: " + err_tail, true);
     default:
       return report_failure(job, "runner failed with " + w.exit.describe() +
                                      (err_tail.empty() ? "" : ": " + err_tail),

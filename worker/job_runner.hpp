@@ -2,8 +2,11 @@
 // (docs/runner.md), turns its progress lines into heartbeats, and reports the end:
 //   exit 0            -> upload summary.json and the bundle's files (status ok or unstable)
 //   exit 2            -> fail, not retryable (invalid input)
-//   exit 3, 1, other,
-//   killed by signal  -> fail, retryable, with the reason and the tail of the runner's stderr
+//   exit 3, or killed
+//   by SIGTERM/SIGINT -> stopped from outside (a batch system ends every process of a job, the
+//                        runner too): release the lease, the attempt is not counted
+//   exit 1, other,
+//   other signals     -> fail, retryable, with the reason and the tail of the runner's stderr
 //   heartbeat 409     -> the lease is lost (expired or cancelled): stop the run, report nothing
 //   stop requested    -> stop the run, release the lease (the job requeues at once)
 #pragma once
@@ -34,7 +37,8 @@ enum class JobEnd {
   succeeded,       // result stored (ok or unstable)
   failed,          // reported as failed (the server retries or gives up)
   lease_lost,      // someone else owns the job now; nothing was reported
-  released,        // the worker is stopping; the job went back to the queue
+  released,        // the worker is stopping or the run was stopped from outside; the job
+                   // went back to the queue
   not_reported,    // the server could not be reached in time; the lease will expire
 };
 const char* to_string(JobEnd e);
