@@ -93,6 +93,13 @@ SweepRecord read_sweep(sqlite::Statement& s, sqlite::Database& db) {
   return r;
 }
 
+// SQL for one number of the result's features (JSON text): NULL when the key is absent, null or
+// not a number.
+std::string feature_number(const std::string& key) {
+  return "CASE WHEN json_type(r.features, '$." + key + "') IN ('real', 'integer')" +
+         " THEN json_extract(r.features, '$." + key + "') END";
+}
+
 }  // namespace
 
 std::optional<SweepRecord> StoreReads::sweep(std::int64_t id) {
@@ -197,7 +204,9 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
       "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
-      " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps"
+      " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps, " +
+      feature_number("band_speed_error") + ", " + feature_number("band_speed_transit") + ", " +
+      feature_number("band_speed_transit_error") +
       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id"
       " WHERE abs(j.phi - ?1) < 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
@@ -220,6 +229,9 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
     p.cells_per_unit = s.int64(11);
     p.eps_end = s.real(12);
     p.progress_eps = s.opt_real(13);
+    p.band_speed_error = s.opt_real(14);
+    p.band_speed_transit = s.opt_real(15);
+    p.band_speed_transit_error = s.opt_real(16);
     points.push_back(std::move(p));
   }
   return points;

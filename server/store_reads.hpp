@@ -75,6 +75,8 @@ struct PhaseMapPoint {
   std::string state;
   std::optional<std::string> cls, runner_up, status;
   std::optional<double> confidence, band_speed_ratio, progress_eps;
+  // c_b/V's standard error and the transit reading with its uncertainty, from the features
+  std::optional<double> band_speed_error, band_speed_transit, band_speed_transit_error;
   std::optional<std::int64_t> n_reflections;
   std::int64_t job_id = 0, cells_per_unit = 0;
 };

@@ -244,6 +244,36 @@ TEST_F(StoreTest, PhaseMapListsTheJobsAtOnePhiWithTheirLabels) {
   EXPECT_EQ(phase_map_of(store, 0.5, std::nullopt)["points"].size(), 1u);
 }
 
+TEST_F(StoreTest, PhaseMapCarriesBothReadingsOfTheBandSpeedWithTheirUncertainties) {
+  store.sweeps.create(plan(points({0.01, 0.02, 0.03})), t0);
+  const auto complete = [&](const json& features) {
+    auto l = store.queue.lease("w", "test-1", t0);
+    ResultRecord r = result_for(store, l->job_id);
+    r.band_speed_ratio = features.value("band_speed_ratio", json()).is_number()
+                             ? std::optional<double>(features["band_speed_ratio"].get<double>())
+                             : std::nullopt;
+    r.features = features.dump();
+    store.queue.complete(l->job_id, l->token, r, t0);
+  };
+  complete({{"band_speed_ratio", 1.73}, {"band_speed_error", 0.008}, {"band_speed_transit", 1.694},
+            {"band_speed_transit_error", 0.016}});
+  complete({{"band_speed_ratio", nullptr}, {"band_speed_error", nullptr}});  // no band
+  complete({{"band_speed_error", "wide"}});                                 // not a number
+  const json map = phase_map_of(store, 0.4, std::nullopt);
+  ASSERT_EQ(map["points"].size(), 3u);
+  const json& band = map["points"][0];
+  EXPECT_DOUBLE_EQ(band["band_speed_ratio"].get<double>(), 1.73);
+  EXPECT_DOUBLE_EQ(band["band_speed_error"].get<double>(), 0.008);
+  EXPECT_DOUBLE_EQ(band["band_speed_transit"].get<double>(), 1.694);
+  EXPECT_DOUBLE_EQ(band["band_speed_transit_error"].get<double>(), 0.016);
+  for (int i : {1, 2}) {
+    for (const char* k : {"band_speed_ratio", "band_speed_error", "band_speed_transit",
+                          "band_speed_transit_error"}) {
+      EXPECT_TRUE(map["points"][i][k].is_null()) << "point " << i << ", " << k;
+    }
+  }
+}
+
 TEST_F(StoreTest, ArtifactsAreStoredWithTheResult) {
   store.sweeps.create(plan(points({0.01})), t0);
   auto l = store.queue.lease("w", "test-1", t0);
