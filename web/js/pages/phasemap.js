@@ -13,15 +13,8 @@ const POLL_MS = 2000;
 // Draw order: pending below finished, labelled on top.
 const ORDER = { cancelled: 0, queued: 1, failed: 2, running: 3, unclassified: 4, unstable: 5 };
 
-export function mount(root, params) {
-  const state = {
-    phi: params.phi ? Number(params.phi) : null,
-    cpu: params.cpu || 'all',
-    sweep: params.sweep || '',
-    buckling: params.buckling !== '0',
-    points: [], signature: '', presets: [], sweeps: [], updated: null, error: null,
-  };
-  root.innerHTML = `
+function pageHtml() {
+  return `
     <div class="page-head">
       <h1>Phase map</h1>
       <p class="sub">Pattern of compaction of every run in the plane of the Mach number
@@ -46,6 +39,119 @@ export function mount(root, params) {
         <p class="hint">Hover a marker for its numbers, click it to open the run.</p>
       </aside>
     </div>`;
+}
+
+// Markers of the visible points in a stable draw order (categories by ORDER, classes last; finer
+// resolution over coarser); returns the drawn points, their canvas positions and the counts.
+function drawPoints(plot, pts) {
+  const r = markerRadius(pts.length);
+  const drawn = pts.map((p) => ({ p, cat: category(p) }));
+  drawn.sort((a, b) => (ORDER[a.cat] ?? 9) - (ORDER[b.cat] ?? 9) || a.p.cells_per_unit - b.p.cells_per_unit);
+  const positions = new Float32Array(drawn.length * 2); // [x, y] per drawn point (canvas pixels)
+  const counts = {};
+  for (let i = 0; i < drawn.length; i++) {
+    const { p, cat } = drawn[i];
+    const x = plot.cx(p.S), y = plot.cy(p.R);
+    positions[2 * i] = x; positions[2 * i + 1] = y;
+    counts[cat] = (counts[cat] || 0) + 1;
+    const progress = p.progress_eps !== null && p.eps_end > 0 ? p.progress_eps / p.eps_end : 0;
+    drawMarker(plot.ctx, cat, x, y, r, progress);
+  }
+  return { drawn, positions, counts, radius: r };
+}
+
+function markerRadius(n) {
+  return n > 3000 ? 2.6 : n > 600 ? 3.6 : n > 150 ? 5 : 7;
+}
+
+// The buckling onset R_crit at phi as a dashed line with its label, when it is inside the plot.
+function drawBuckling(plot, phi) {
+  const Rc = bucklingR(phi);
+  if (!(Rc > plot.y.d0 && Rc < plot.y.d1)) return;
+  const y = plot.y.map(Rc);
+  svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
+  const t = svgEl('text', { x: plot.m.l + plot.pw - 8, y: y - 7, 'text-anchor': 'end', class: 'overlay-label' }, plot.front);
+  richText(t, `buckling onset R_{crit} = π²a²/12 ≈ ${sciText(Rc, 2)}   (strut aspect ratio a = ${strutAspectRatio(phi).toFixed(3)})`);
+}
+
+// One legend line per class, then per state, each with its count.
+function renderLegend(legend, counts) {
+  legend.replaceChildren();
+  const item = (cat, text, note) => {
+    const li = document.createElement('li');
+    li.dataset.cat = cat;
+    li.dataset.count = String(counts[cat] || 0);
+    if (!counts[cat]) li.classList.add('zero');
+    li.append(swatch(cat));
+    const name = document.createElement('span');
+    name.className = 'legend-name';
+    name.innerHTML = text;
+    if (note) name.title = note;
+    const n = document.createElement('span');
+    n.className = 'legend-count';
+    n.textContent = counts[cat] || 0;
+    li.append(name, n);
+    legend.append(li);
+  };
+  for (const [k, c] of Object.entries(CLASSES)) item(k, `<b>${k}</b> ${c.name}`);
+  const sep = document.createElement('li');
+  sep.className = 'legend-sep';
+  legend.append(sep);
+  for (const [k, s] of Object.entries(STATES)) item(k, s.name, s.note);
+}
+
+function summaryHtml(counts, total, phi) {
+  const labelled = Object.keys(CLASSES).reduce((a, k) => a + (counts[k] || 0), 0);
+  const pending = (counts.queued || 0) + (counts.running || 0);
+  return `<b>${total.toLocaleString()}</b> runs at φ = ${phi} · ${labelled} labelled · ${pending} pending`;
+}
+
+function tooltipHtml(p, cat, numerics) {
+  const rows = [
+    ['S', sci(p.S)], ['R', sci(p.R)], ['φ', p.phi],
+    ['class', CLASSES[cat] ? `<span class="dot" style="background:${CLASSES[cat].color}"></span>${escapeHtml(label(cat))}` : escapeHtml(look(cat).name)],
+    ['confidence', p.confidence === null ? '—' : fixed(p.confidence, 2)],
+    ['runner-up', p.runner_up ? escapeHtml(label(p.runner_up)) : '—'],
+    ['<i>N</i><sub>r</sub>', p.n_reflections ?? '—'],
+    ['<i>c</i><sub>b</sub>/<i>V</i>', p.band_speed_ratio === null ? '—' : fixed(p.band_speed_ratio, 3)],
+    ['state', escapeHtml(p.state) + (p.state === 'running' && p.progress_eps !== null ? `, ε = ${fixed(p.progress_eps, 3)} of ${fixed(p.eps_end, 2)}` : '')],
+    ['numerics', numerics],
+  ];
+  return `<div class="tt-head">run ${p.job_id}</div><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('')}</table>`;
+}
+
+// Shows the tooltip beside the mouse, on the other side when it would leave the window.
+function placeTooltip(tooltip, ev) {
+  tooltip.hidden = false;
+  const w = tooltip.offsetWidth, h = tooltip.offsetHeight;
+  let x = ev.clientX + 16, y = ev.clientY + 14;
+  if (x + w > window.innerWidth - 8) x = ev.clientX - w - 16;
+  if (y + h > window.innerHeight - 8) y = ev.clientY - h - 14;
+  tooltip.style.left = `${x + window.scrollX}px`;
+  tooltip.style.top = `${y + window.scrollY}px`;
+}
+
+// For the browser tests and the render benchmark (bench/dashboard).
+function publishRender(root, phi, ms, { drawn, positions, counts, radius }) {
+  const hook = (window.__dashboard ||= { renders: [] });
+  hook.renders.push(ms);
+  hook.renderedAt = performance.now();
+  hook.phaseMap = {
+    phi, count: drawn.length, counts, renderMs: ms, radius,
+    points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1] })),
+  };
+  root.dispatchEvent(new CustomEvent('phasemap:rendered', { bubbles: true, detail: { ms, count: drawn.length } }));
+}
+
+export function mount(root, params) {
+  const state = {
+    phi: params.phi ? Number(params.phi) : null,
+    cpu: params.cpu || 'all',
+    sweep: params.sweep || '',
+    buckling: params.buckling !== '0',
+    points: [], signature: '', presets: [], sweeps: [], updated: null, error: null,
+  };
+  root.innerHTML = pageHtml();
   const $ = (id) => root.querySelector(`#${id}`);
   const plotBox = $('map-plot');
   const phiSel = $('map-phi'), cpuSel = $('map-cpu'), sweepSel = $('map-sweep'), buck = $('map-buckling');
@@ -111,80 +217,21 @@ export function mount(root, params) {
       x: { kind: 'log', domain: xDom, label: 'Mach number S = V / √(E/ρ)' },
       y: { kind: 'log', domain: yDom, label: 'relative strength R = q_{y} / E' },
     });
-    const ctx = plot.ctx;
-    const r = pts.length > 3000 ? 2.6 : pts.length > 600 ? 3.6 : pts.length > 150 ? 5 : 7;
-    // Stable draw order: categories by ORDER, classes last; finer resolution over coarser.
-    drawn = pts.map((p) => ({ p, cat: category(p) }));
-    drawn.sort((a, b) => (ORDER[a.cat] ?? 9) - (ORDER[b.cat] ?? 9) || a.p.cells_per_unit - b.p.cells_per_unit);
-    positions = new Float32Array(drawn.length * 2);
-    const counts = {};
-    for (let i = 0; i < drawn.length; i++) {
-      const { p, cat } = drawn[i];
-      const x = plot.cx(p.S), y = plot.cy(p.R);
-      positions[2 * i] = x; positions[2 * i + 1] = y;
-      counts[cat] = (counts[cat] || 0) + 1;
-      const progress = p.progress_eps !== null && p.eps_end > 0 ? p.progress_eps / p.eps_end : 0;
-      drawMarker(ctx, cat, x, y, r, progress);
-    }
-    if (state.buckling) drawBuckling();
+    const marks = drawPoints(plot, pts);
+    ({ drawn, positions } = marks);
+    if (state.buckling) drawBuckling(plot, state.phi);
     if (!pts.length) {
       const t = svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2, 'text-anchor': 'middle', class: 'empty-note' }, plot.front);
       t.textContent = state.error ? `could not load: ${state.error}` : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;
     }
     plot.canvas.dataset.count = String(drawn.length);
-    plot.canvas.dataset.counts = JSON.stringify(counts);
+    plot.canvas.dataset.counts = JSON.stringify(marks.counts);
     plot.canvas.addEventListener('mousemove', onMove);
     plot.canvas.addEventListener('mouseleave', () => { tooltip.hidden = true; plot.canvas.style.cursor = ''; });
     plot.canvas.addEventListener('click', onClick);
-    renderLegend(counts, pts.length);
-    const ms = performance.now() - t0;
-    // For the browser tests and the render benchmark (bench/dashboard).
-    const hook = (window.__dashboard ||= { renders: [] });
-    hook.renders.push(ms);
-    hook.renderedAt = performance.now();
-    hook.phaseMap = {
-      phi: state.phi, count: drawn.length, counts, renderMs: ms, radius: r,
-      points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1] })),
-    };
-    root.dispatchEvent(new CustomEvent('phasemap:rendered', { bubbles: true, detail: { ms, count: drawn.length } }));
-  }
-
-  function drawBuckling() {
-    const Rc = bucklingR(state.phi);
-    if (!(Rc > plot.y.d0 && Rc < plot.y.d1)) return;
-    const y = plot.y.map(Rc);
-    svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
-    const t = svgEl('text', { x: plot.m.l + plot.pw - 8, y: y - 7, 'text-anchor': 'end', class: 'overlay-label' }, plot.front);
-    richText(t, `buckling onset R_{crit} = π²a²/12 ≈ ${sciText(Rc, 2)}   (strut aspect ratio a = ${strutAspectRatio(state.phi).toFixed(3)})`);
-  }
-
-  function renderLegend(counts, total) {
-    const legend = $('map-legend');
-    legend.replaceChildren();
-    const item = (cat, text, note) => {
-      const li = document.createElement('li');
-      li.dataset.cat = cat;
-      li.dataset.count = String(counts[cat] || 0);
-      if (!counts[cat]) li.classList.add('zero');
-      li.append(swatch(cat));
-      const name = document.createElement('span');
-      name.className = 'legend-name';
-      name.innerHTML = text;
-      if (note) name.title = note;
-      const n = document.createElement('span');
-      n.className = 'legend-count';
-      n.textContent = counts[cat] || 0;
-      li.append(name, n);
-      legend.append(li);
-    };
-    for (const [k, c] of Object.entries(CLASSES)) item(k, `<b>${k}</b> ${c.name}`);
-    const sep = document.createElement('li');
-    sep.className = 'legend-sep';
-    legend.append(sep);
-    for (const [k, s] of Object.entries(STATES)) item(k, s.name, s.note);
-    const labelled = Object.keys(CLASSES).reduce((a, k) => a + (counts[k] || 0), 0);
-    const pending = (counts.queued || 0) + (counts.running || 0);
-    $('map-summary').innerHTML = `<b>${total.toLocaleString()}</b> runs at φ = ${state.phi} · ${labelled} labelled · ${pending} pending`;
+    renderLegend($('map-legend'), marks.counts);
+    $('map-summary').innerHTML = summaryHtml(marks.counts, pts.length, state.phi);
+    publishRender(root, state.phi, performance.now() - t0, marks);
   }
 
   function nearest(ev) {
@@ -205,24 +252,8 @@ export function mount(root, params) {
     if (i < 0) { tooltip.hidden = true; plot.canvas.style.cursor = ''; return; }
     plot.canvas.style.cursor = 'pointer';
     const { p, cat } = drawn[i];
-    const rows = [
-      ['S', sci(p.S)], ['R', sci(p.R)], ['φ', p.phi],
-      ['class', CLASSES[cat] ? `<span class="dot" style="background:${CLASSES[cat].color}"></span>${escapeHtml(label(cat))}` : escapeHtml(look(cat).name)],
-      ['confidence', p.confidence === null ? '—' : fixed(p.confidence, 2)],
-      ['runner-up', p.runner_up ? escapeHtml(label(p.runner_up)) : '—'],
-      ['<i>N</i><sub>r</sub>', p.n_reflections ?? '—'],
-      ['<i>c</i><sub>b</sub>/<i>V</i>', p.band_speed_ratio === null ? '—' : fixed(p.band_speed_ratio, 3)],
-      ['state', escapeHtml(p.state) + (p.state === 'running' && p.progress_eps !== null ? `, ε = ${fixed(p.progress_eps, 3)} of ${fixed(p.eps_end, 2)}` : '')],
-      ['numerics', presetName(p.cells_per_unit)],
-    ];
-    tooltip.innerHTML = `<div class="tt-head">run ${p.job_id}</div><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('')}</table>`;
-    tooltip.hidden = false;
-    const w = tooltip.offsetWidth, h = tooltip.offsetHeight;
-    let x = ev.clientX + 16, y = ev.clientY + 14;
-    if (x + w > window.innerWidth - 8) x = ev.clientX - w - 16;
-    if (y + h > window.innerHeight - 8) y = ev.clientY - h - 14;
-    tooltip.style.left = `${x + window.scrollX}px`;
-    tooltip.style.top = `${y + window.scrollY}px`;
+    tooltip.innerHTML = tooltipHtml(p, cat, presetName(p.cells_per_unit));
+    placeTooltip(tooltip, ev);
   }
 
   function onClick(ev) {
@@ -230,6 +261,17 @@ export function mount(root, params) {
     if (i >= 0) location.hash = `#/run/${drawn[i].p.job_id}`;
   }
 
+  function showLive() {
+    $('map-live').innerHTML = `<span class="pulse"></span>live · updated ${state.updated.toLocaleTimeString()}`;
+    $('map-live').className = 'live';
+  }
+
+  function showOffline() {
+    $('map-live').textContent = `offline: ${state.error}; retrying`;
+    $('map-live').className = 'live off';
+  }
+
+  // Reads /phase-map while the tab is visible and redraws only when the answer changed.
   async function poll() {
     if (!alive) return;
     clearTimeout(timer);
@@ -246,12 +288,10 @@ export function mount(root, params) {
           fillCpuOptions();
           render();
         }
-        $('map-live').innerHTML = `<span class="pulse"></span>live · updated ${state.updated.toLocaleTimeString()}`;
-        $('map-live').className = 'live';
+        showLive();
       } catch (e) {
         state.error = e.message;
-        $('map-live').textContent = `offline: ${e.message}; retrying`;
-        $('map-live').className = 'live off';
+        showOffline();
       }
     }
     if (alive) timer = setTimeout(poll, POLL_MS);

@@ -16,10 +16,8 @@ const UNITS = {
   perturbation: 'of the particle spacing', n_rows: 'unit cells high', n_cols: 'unit cells wide (full 2D)',
 };
 
-export function mount(root, params) {
-  const id = params.id;
-  let alive = true, timer = null, shownState = null;
-  root.innerHTML = `
+function pageHtml(id) {
+  return `
     <div class="page-head">
       <a class="back" href="#/map">← phase map</a>
       <h1 id="run-title">Run ${id}</h1>
@@ -34,6 +32,12 @@ export function mount(root, params) {
       <section class="card" id="card-state"><h2>State and timings</h2><div id="state-box"></div>
         <h2 class="sub-h">Downloads</h2><div id="files-box"><p class="muted">no files yet</p></div></section>
     </div>`;
+}
+
+export function mount(root, params) {
+  const id = params.id;
+  let alive = true, timer = null, shownState = null;
+  root.innerHTML = pageHtml(id);
   const $ = (x) => root.querySelector(`#${x}`);
 
   async function load() {
@@ -49,9 +53,9 @@ export function mount(root, params) {
     }
     if (!alive) return;
     renderHead(job);
-    renderState(job);
-    renderParams(job);
-    renderClass(job);
+    $('state-box').innerHTML = stateHtml(job);
+    $('params-box').innerHTML = paramsHtml(job);
+    $('class-box').innerHTML = classHtml(job.result);
     const finished = ['succeeded', 'failed', 'cancelled'].includes(job.state);
     if (job.state !== shownState && (job.result || finished)) {
       shownState = job.state;
@@ -73,82 +77,12 @@ export function mount(root, params) {
     document.title = `run ${job.id} · compaction-sweep`;
   }
 
-  function renderState(job) {
-    const r = job.result || {};
-    const s = r.summary || {};
-    const queued = job.started_at && job.created_at ? (job.started_at - job.created_at) / 1000 : null;
-    const ran = job.finished_at && job.started_at ? (job.finished_at - job.started_at) / 1000 : null;
-    const rows = [
-      ['state', `<span class="state-text state-${job.state}">${job.state}</span>${r.status ? ` (result ${escapeHtml(r.status)}${r.reason ? `: ${escapeHtml(r.reason)}` : ''})` : ''}`],
-      ['worker', escapeHtml(r.worker || job.worker || '—')],
-      ['attempts', `${job.attempts} of ${job.max_attempts}`],
-      ['created', when(job.created_at)],
-      ['started', when(job.started_at)],
-      ['finished', when(job.finished_at)],
-      ['waited in queue', duration(queued)],
-      ['run time (lease to result)', duration(ran)],
-      ['simulation wall time', duration(r.wall_seconds ?? s.wall_seconds)],
-      ['steps · particles', s.steps ? `${s.steps.toLocaleString()} · ${s.n_particles?.toLocaleString()}` : '—'],
-      ['cost', s.ns_per_particle_step ? `${fixed(s.ns_per_particle_step, 0)} ns per particle-step` : '—'],
-      ['strain reached', r.eps_reached ?? s.eps_reached ?? (job.progress_eps !== null ? `${fixed(job.progress_eps, 3)} (running)` : '—')],
-      ['engine', `${escapeHtml(job.engine_version)}${r.source_revision ? ` · ${escapeHtml(r.source_revision)}` : ''}`],
-      ['sweeps', (job.sweeps || []).map((x) => `#${x}`).join(', ') || '—'],
-    ];
-    if (job.last_error) rows.push(['last error', `<code class="err">${escapeHtml(job.last_error)}</code>`]);
-    let html = table(rows);
-    if (job.events?.length) {
-      html += `<details class="events"><summary>${job.events.length} events</summary><ol>${job.events.map((e) =>
-        `<li><time>${when(e.at)}</time> <b>${escapeHtml(e.kind)}</b> attempt ${e.attempt}${e.worker ? ` · ${escapeHtml(e.worker)}` : ''}${e.message ? `<br><code>${escapeHtml(e.message)}</code>` : ''}</li>`).join('')}</ol></details>`;
-    }
-    $('state-box').innerHTML = html;
-  }
-
-  function renderParams(job) {
-    const scene = job.scene || {};
-    const rows = Object.entries(scene).filter(([k]) => k !== 'threads').map(([k, v]) => {
-      const val = typeof v === 'number' ? sci(v, 4) : escapeHtml(Array.isArray(v) ? v.join(', ') : String(v));
-      return [`<code>${k}</code>`, `${val}${UNITS[k] ? ` <span class="unit">${escapeHtml(UNITS[k])}</span>` : ''}`];
-    });
-    const d = job.result?.summary?.derived;
-    if (d) {
-      rows.push(['<i>E</i>', `${sci(d.E)} <span class="unit">N/m</span>`], ['<i>V</i>', `${sci(d.V)} <span class="unit">m/s</span>`],
-        ['bar wave speed', `${sci(d.bar_wave_speed)} <span class="unit">m/s</span>`]);
-    }
-    if (job.result?.summary?.phi_discrete) rows.push(['φ of the particles', fixed(job.result.summary.phi_discrete, 3)]);
-    const half = Math.ceil(rows.length / 2);
-    $('params-box').innerHTML = `<div class="cols2">${table(rows.slice(0, half))}${table(rows.slice(half))}</div>`;
-  }
-
-  function renderClass(job) {
-    const r = job.result;
-    if (!r) { $('class-box').innerHTML = '<p class="muted">no result yet</p>'; return; }
-    if (!r.class) {
-      $('class-box').innerHTML = `<p class="muted">${r.status === 'unstable' ? 'Numerically unstable run: not classified.' : 'Done, unclassified: the classifier gave no label for this run (or has not run on it).'}</p>`;
-      return;
-    }
-    const c = CLASSES[r.class];
-    const conf = r.confidence ?? null;
-    let html = `<div class="class-main"><span class="class-letter" style="background:${c?.color || '#888'};color:${inkOn(c?.color || '#888888')}">${escapeHtml(r.class)}</span>
-      <div><div class="class-name">${escapeHtml(c?.name || r.class)}</div>
-      <div class="conf"><span class="conf-bar"><span style="width:${conf === null ? 0 : Math.round(conf * 100)}%;background:${c?.color || '#888'}"></span></span> confidence ${conf === null ? '—' : fixed(conf, 2)}</div>
-      <div class="muted">runner-up: ${r.runner_up ? escapeHtml(label(r.runner_up)) : '—'}</div></div></div>`;
-    const rows = [['<i>N</i><sub>r</sub> (reflections)', r.n_reflections ?? '—'], ['<i>c</i><sub>b</sub>/<i>V</i> (band speed)', r.band_speed_ratio === null ? '—' : fixed(r.band_speed_ratio, 3)]];
-    for (const [k, v] of Object.entries(r.features || {})) {
-      if (k === 'n_reflections' || k === 'band_speed_ratio') continue;
-      rows.push([`<code>${escapeHtml(k)}</code>`, typeof v === 'number' ? sci(v, 3) : escapeHtml(JSON.stringify(v))]);
-    }
-    $('class-box').innerHTML = html + table(rows);
-  }
-
   async function renderArtifacts(job) {
     let list = [];
     try { list = (await api.artifacts(id)).artifacts; } catch { list = []; }
     if (!alive) return;
     const names = new Set(list.map((a) => a.name));
-    $('files-box').innerHTML = list.length
-      ? `<ul class="files">${list.map((a) => `<li><a href="${a.url}" download="run${id}_${escapeHtml(a.name)}">${escapeHtml(a.name)}</a><span class="muted">${bytes(a.size)}</span></li>`).join('')}</ul>
-         <p class="hint">Also: <a href="/api/v1/jobs/${id}">job JSON</a>${job.sweeps?.length ? ` · sweep export <a href="${api.exportUrl(job.sweeps[0], 'csv')}">CSV</a>` : ''}</p>`
-      : '<p class="muted">This run has no files' + (job.state === 'failed' ? ' (it failed; see the events).' : '.') + '</p>';
+    $('files-box').innerHTML = filesHtml(list, job, id);
     const summary = job.result?.summary || {};
     let frames = null;
     if (names.has('frames.csv')) {
@@ -157,8 +91,8 @@ export function mount(root, params) {
     if (!alive) return;
     await renderSpacetime(names, summary, frames);
     if (!alive) return;
-    renderStress(frames, summary);
-    renderSnapshot(list, summary);
+    renderStress($('stress-fig'), frames, summary, id);
+    renderSnapshot($('snap-box'), list, summary);
   }
 
   async function renderSpacetime(names, summary, frames) {
@@ -167,7 +101,7 @@ export function mount(root, params) {
       try {
         const npy = parseNpy(await fetchArtifact(id, 'spacetime.npy'));
         if (!alive) return;
-        drawSpacetime(box, npy, summary, frames);
+        drawSpacetime(box, npy, summary, frames, id);
         return;
       } catch (e) { console.error('spacetime.npy', e); }
     }
@@ -178,103 +112,181 @@ export function mount(root, params) {
     }
   }
 
-  function drawSpacetime(box, npy, summary, frames) {
-    const [nf, nr] = npy.shape;
-    const h0 = summary.params?.h0 || 1;
-    const rowH = summary.spacetime?.row_height || h0 / nr;
-    const dEps = summary.params?.d_eps || 0.002;
-    const epsAt = (i) => (frames && frames.columns.eps && frames.rows === nf ? frames.columns.eps[i] : (i + 1) * dEps);
-    const eps1 = epsAt(nf - 1);
-    const eps0 = Math.max(0, eps1 - (nf === 1 ? dEps : (epsAt(nf - 1) - epsAt(0)) * nf / (nf - 1)));
-    const top = (nr * rowH) / h0;
-    // Colour: log10(1 + value), as in spacetime.png; the top 0.5 % clipped so one spike
-    // does not wash the map out.
-    const vals = new Float32Array(npy.data.length);
-    for (let i = 0; i < vals.length; i++) vals[i] = Math.log10(1 + Math.max(0, npy.data[i]));
-    const sorted = Float32Array.from(vals).sort();
-    const vmax = Math.max(sorted[Math.floor(0.995 * (sorted.length - 1))], 1e-6);
-    const lut = colormap('inferno');
-    const img = new ImageData(nf, nr);
-    for (let f = 0; f < nf; f++) {
-      for (let r = 0; r < nr; r++) {
-        const k = Math.max(0, Math.min(255, Math.round((vals[f * nr + r] / vmax) * 255))) * 3;
-        const o = ((nr - 1 - r) * nf + f) * 4; // height up
-        img.data[o] = lut[k]; img.data[o + 1] = lut[k + 1]; img.data[o + 2] = lut[k + 2]; img.data[o + 3] = 255;
-      }
-    }
-    const off = document.createElement('canvas');
-    off.width = nf; off.height = nr;
-    off.getContext('2d').putImageData(img, 0, 0);
-    box.replaceChildren();
-    const width = Math.max(520, Math.min(1160, box.clientWidth || 900));
-    const plot = new Plot(box, {
-      width, height: 400, canvas: true, margin: { l: 70, r: 110, t: 12, b: 56 }, title: 'space-time map',
-      x: { kind: 'linear', domain: [eps0, eps1], label: 'imposed strain ε = Vt / h_{0}' },
-      y: { kind: 'linear', domain: [0, top], label: 'height y / h_{0}' },
-    });
-    plot.canvas.id = 'st-canvas';
-    plot.ctx.imageSmoothingEnabled = nf < plot.pw / 3 ? false : true;
-    plot.ctx.drawImage(off, 0, 0, plot.pw, plot.ph);
-    colorBar(plot.svg, { x: plot.m.l + plot.pw + 14, y: plot.m.t, w: 14, h: plot.ph, lut, lo: 0, hi: vmax, label: 'log_{10}(1 + |ε̇_{P}| h_{0}/V)' });
-    plot.canvas.dataset.frames = nf;
-    plot.canvas.dataset.rows = nr;
-    const cap = document.createElement('p');
-    cap.className = 'caption';
-    cap.innerHTML = `Row-averaged plastic Hencky strain-rate magnitude, ${nf} frames × ${nr} rows (row height ${fixed(rowH / h0 * 1000, 2)}·10<sup>−3</sup> h<sub>0</sub>). A compaction band is a bright line; its slope is the band speed. <a href="/api/v1/jobs/${id}/artifacts/spacetime.npy">spacetime.npy</a>`;
-    box.append(cap);
-  }
-
-  function renderStress(frames, summary) {
-    const box = $('stress-fig');
-    if (!frames || !frames.columns.eps) { box.innerHTML = '<p class="muted">no frames.csv in this result</p>'; return; }
-    const c = frames.columns;
-    const eps = Array.from(c.eps);
-    const top = Array.from(c.sigma_top_over_qy || []), bot = Array.from(c.sigma_bottom_over_qy || []);
-    box.replaceChildren();
-    const width = Math.max(420, Math.min(620, box.clientWidth || 520));
-    const yd = linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
-    const plot = new Plot(box, {
-      width, height: 330, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
-      x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε' },
-      y: { kind: 'linear', domain: yd, label: 'plate stress σ / q_{y}' },
-    });
-    plot.svg.id = 'stress-svg';
-    const clip = plot.clipRect();
-    plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
-    plot.line([0, ...eps], [0, ...top], { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
-    const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${plot.m.l + plot.pw - 162}, ${plot.m.t + 14})` }, plot.front);
-    svgEl('rect', { x: -6, y: -10, width: 156, height: 44, class: 'legend-box' }, lg);
-    [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].forEach(([k, t], i) => {
-      svgEl('line', { x1: 0, x2: 20, y1: i * 18, y2: i * 18, class: `series ${k}` }, lg);
-      svgEl('text', { x: 26, y: i * 18 + 4, class: 'legend-text' }, lg).textContent = t;
-    });
-    const cap = document.createElement('p');
-    cap.className = 'caption';
-    cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m. <a href="/api/v1/jobs/${id}/artifacts/frames.csv">frames.csv</a>`;
-    box.append(cap);
-  }
-
-  function renderSnapshot(list, summary) {
-    const box = $('snap-box');
-    const pngs = list.filter((a) => /^snapshot_.*\.png$/.test(a.name));
-    if (!pngs.length) {
-      const want = summary.params?.snapshot_eps?.join(', ') ?? '0.2';
-      box.innerHTML = `<p class="muted">No snapshot: the run ${summary.eps_reached !== undefined ? `ended at ε = ${fixed(summary.eps_reached, 3)}, ` : ''}before the requested ε = ${escapeHtml(want)}.</p>`;
-      return;
-    }
-    const epsOf = (n) => Number(n.replace(/^snapshot_|\.png$/g, ''));
-    pngs.sort((a, b) => Math.abs(epsOf(a.name) - 0.2) - Math.abs(epsOf(b.name) - 0.2));
-    const show = (a) => `<figure><div class="snap-wrap"><img class="artifact-img" id="snap-img" alt="snapshot at eps ${epsOf(a.name)}" src="${a.url}"></div>
-      <figcaption>Particles coloured by plastic strain rate at ε = ${epsOf(a.name)}${summary.params?.geometry === 'pseudo1d' ? ' (pseudo-1D: eight periods side by side)' : ''}.</figcaption></figure>`;
-    box.innerHTML = (pngs.length > 1 ? `<div class="tabs">${pngs.map((a, i) => `<button data-i="${i}" class="${i ? '' : 'on'}">ε = ${epsOf(a.name)}</button>`).join('')}</div>` : '') + `<div id="snap-one">${show(pngs[0])}</div>`;
-    box.querySelectorAll('.tabs button').forEach((b) => b.addEventListener('click', () => {
-      box.querySelectorAll('.tabs button').forEach((x) => x.classList.toggle('on', x === b));
-      box.querySelector('#snap-one').innerHTML = show(pngs[Number(b.dataset.i)]);
-    }));
-  }
-
   load();
   return () => { alive = false; clearTimeout(timer); };
+}
+
+// The job's state, worker, attempts, timings and cost, then its events.
+function stateHtml(job) {
+  const r = job.result || {};
+  const s = r.summary || {};
+  const queued = job.started_at && job.created_at ? (job.started_at - job.created_at) / 1000 : null;
+  const ran = job.finished_at && job.started_at ? (job.finished_at - job.started_at) / 1000 : null;
+  const rows = [
+    ['state', `<span class="state-text state-${job.state}">${job.state}</span>${r.status ? ` (result ${escapeHtml(r.status)}${r.reason ? `: ${escapeHtml(r.reason)}` : ''})` : ''}`],
+    ['worker', escapeHtml(r.worker || job.worker || '—')],
+    ['attempts', `${job.attempts} of ${job.max_attempts}`],
+    ['created', when(job.created_at)],
+    ['started', when(job.started_at)],
+    ['finished', when(job.finished_at)],
+    ['waited in queue', duration(queued)],
+    ['run time (lease to result)', duration(ran)],
+    ['simulation wall time', duration(r.wall_seconds ?? s.wall_seconds)],
+    ['steps · particles', s.steps ? `${s.steps.toLocaleString()} · ${s.n_particles?.toLocaleString()}` : '—'],
+    ['cost', s.ns_per_particle_step ? `${fixed(s.ns_per_particle_step, 0)} ns per particle-step` : '—'],
+    ['strain reached', r.eps_reached ?? s.eps_reached ?? (job.progress_eps !== null ? `${fixed(job.progress_eps, 3)} (running)` : '—')],
+    ['engine', `${escapeHtml(job.engine_version)}${r.source_revision ? ` · ${escapeHtml(r.source_revision)}` : ''}`],
+    ['sweeps', (job.sweeps || []).map((x) => `#${x}`).join(', ') || '—'],
+  ];
+  if (job.last_error) rows.push(['last error', `<code class="err">${escapeHtml(job.last_error)}</code>`]);
+  let html = table(rows);
+  if (job.events?.length) {
+    html += `<details class="events"><summary>${job.events.length} events</summary><ol>${job.events.map((e) =>
+      `<li><time>${when(e.at)}</time> <b>${escapeHtml(e.kind)}</b> attempt ${e.attempt}${e.worker ? ` · ${escapeHtml(e.worker)}` : ''}${e.message ? `<br><code>${escapeHtml(e.message)}</code>` : ''}</li>`).join('')}</ol></details>`;
+  }
+  return html;
+}
+
+// The scene parameters with their units, then the derived quantities of the result, in two columns.
+function paramsHtml(job) {
+  const scene = job.scene || {};
+  const rows = Object.entries(scene).filter(([k]) => k !== 'threads').map(([k, v]) => {
+    const val = typeof v === 'number' ? sci(v, 4) : escapeHtml(Array.isArray(v) ? v.join(', ') : String(v));
+    return [`<code>${k}</code>`, `${val}${UNITS[k] ? ` <span class="unit">${escapeHtml(UNITS[k])}</span>` : ''}`];
+  });
+  const d = job.result?.summary?.derived;
+  if (d) {
+    rows.push(['<i>E</i>', `${sci(d.E)} <span class="unit">N/m</span>`], ['<i>V</i>', `${sci(d.V)} <span class="unit">m/s</span>`],
+      ['bar wave speed', `${sci(d.bar_wave_speed)} <span class="unit">m/s</span>`]);
+  }
+  if (job.result?.summary?.phi_discrete) rows.push(['φ of the particles', fixed(job.result.summary.phi_discrete, 3)]);
+  const half = Math.ceil(rows.length / 2);
+  return `<div class="cols2">${table(rows.slice(0, half))}${table(rows.slice(half))}</div>`;
+}
+
+// The label with its confidence and runner-up, N_r, c_b/V and every feature the result carries.
+function classHtml(r) {
+  if (!r) return '<p class="muted">no result yet</p>';
+  if (!r.class) {
+    return `<p class="muted">${r.status === 'unstable' ? 'Numerically unstable run: not classified.' : 'Done, unclassified: the classifier gave no label for this run (or has not run on it).'}</p>`;
+  }
+  const c = CLASSES[r.class];
+  const conf = r.confidence ?? null;
+  let html = `<div class="class-main"><span class="class-letter" style="background:${c?.color || '#888'};color:${inkOn(c?.color || '#888888')}">${escapeHtml(r.class)}</span>
+    <div><div class="class-name">${escapeHtml(c?.name || r.class)}</div>
+    <div class="conf"><span class="conf-bar"><span style="width:${conf === null ? 0 : Math.round(conf * 100)}%;background:${c?.color || '#888'}"></span></span> confidence ${conf === null ? '—' : fixed(conf, 2)}</div>
+    <div class="muted">runner-up: ${r.runner_up ? escapeHtml(label(r.runner_up)) : '—'}</div></div></div>`;
+  const rows = [['<i>N</i><sub>r</sub> (reflections)', r.n_reflections ?? '—'], ['<i>c</i><sub>b</sub>/<i>V</i> (band speed)', r.band_speed_ratio === null ? '—' : fixed(r.band_speed_ratio, 3)]];
+  for (const [k, v] of Object.entries(r.features || {})) {
+    if (k === 'n_reflections' || k === 'band_speed_ratio') continue;
+    rows.push([`<code>${escapeHtml(k)}</code>`, typeof v === 'number' ? sci(v, 3) : escapeHtml(JSON.stringify(v))]);
+  }
+  return html + table(rows);
+}
+
+// A download link per artifact, the job's JSON and its sweep's export.
+function filesHtml(list, job, id) {
+  return list.length
+    ? `<ul class="files">${list.map((a) => `<li><a href="${a.url}" download="run${id}_${escapeHtml(a.name)}">${escapeHtml(a.name)}</a><span class="muted">${bytes(a.size)}</span></li>`).join('')}</ul>
+       <p class="hint">Also: <a href="/api/v1/jobs/${id}">job JSON</a>${job.sweeps?.length ? ` · sweep export <a href="${api.exportUrl(job.sweeps[0], 'csv')}">CSV</a>` : ''}</p>`
+    : '<p class="muted">This run has no files' + (job.state === 'failed' ? ' (it failed; see the events).' : '.') + '</p>';
+}
+
+// The space-time map of spacetime.npy as an image of height against imposed strain, with its
+// colour bar and caption.
+function drawSpacetime(box, npy, summary, frames, id) {
+  const [nf, nr] = npy.shape;
+  const h0 = summary.params?.h0 || 1;
+  const rowH = summary.spacetime?.row_height || h0 / nr;
+  const dEps = summary.params?.d_eps || 0.002;
+  const epsAt = (i) => (frames && frames.columns.eps && frames.rows === nf ? frames.columns.eps[i] : (i + 1) * dEps);
+  const eps1 = epsAt(nf - 1);
+  const eps0 = Math.max(0, eps1 - (nf === 1 ? dEps : (epsAt(nf - 1) - epsAt(0)) * nf / (nf - 1)));
+  const top = (nr * rowH) / h0;
+  // Colour: log10(1 + value), as in spacetime.png; the top 0.5 % clipped so one spike
+  // does not wash the map out.
+  const vals = new Float32Array(npy.data.length);
+  for (let i = 0; i < vals.length; i++) vals[i] = Math.log10(1 + Math.max(0, npy.data[i]));
+  const sorted = Float32Array.from(vals).sort();
+  const vmax = Math.max(sorted[Math.floor(0.995 * (sorted.length - 1))], 1e-6);
+  const lut = colormap('inferno');
+  const img = new ImageData(nf, nr);
+  for (let f = 0; f < nf; f++) {
+    for (let r = 0; r < nr; r++) {
+      const k = Math.max(0, Math.min(255, Math.round((vals[f * nr + r] / vmax) * 255))) * 3;
+      const o = ((nr - 1 - r) * nf + f) * 4; // height up
+      img.data[o] = lut[k]; img.data[o + 1] = lut[k + 1]; img.data[o + 2] = lut[k + 2]; img.data[o + 3] = 255;
+    }
+  }
+  const off = document.createElement('canvas');
+  off.width = nf; off.height = nr;
+  off.getContext('2d').putImageData(img, 0, 0);
+  box.replaceChildren();
+  const width = Math.max(520, Math.min(1160, box.clientWidth || 900));
+  const plot = new Plot(box, {
+    width, height: 400, canvas: true, margin: { l: 70, r: 110, t: 12, b: 56 }, title: 'space-time map',
+    x: { kind: 'linear', domain: [eps0, eps1], label: 'imposed strain ε = Vt / h_{0}' },
+    y: { kind: 'linear', domain: [0, top], label: 'height y / h_{0}' },
+  });
+  plot.canvas.id = 'st-canvas';
+  plot.ctx.imageSmoothingEnabled = nf < plot.pw / 3 ? false : true;
+  plot.ctx.drawImage(off, 0, 0, plot.pw, plot.ph);
+  colorBar(plot.svg, { x: plot.m.l + plot.pw + 14, y: plot.m.t, w: 14, h: plot.ph, lut, lo: 0, hi: vmax, label: 'log_{10}(1 + |ε̇_{P}| h_{0}/V)' });
+  plot.canvas.dataset.frames = nf;
+  plot.canvas.dataset.rows = nr;
+  const cap = document.createElement('p');
+  cap.className = 'caption';
+  cap.innerHTML = `Row-averaged plastic Hencky strain-rate magnitude, ${nf} frames × ${nr} rows (row height ${fixed(rowH / h0 * 1000, 2)}·10<sup>−3</sup> h<sub>0</sub>). A compaction band is a bright line; its slope is the band speed. <a href="/api/v1/jobs/${id}/artifacts/spacetime.npy">spacetime.npy</a>`;
+  box.append(cap);
+}
+
+// The stress of the top and bottom plates over q_y against imposed strain, from frames.csv.
+function renderStress(box, frames, summary, id) {
+  if (!frames || !frames.columns.eps) { box.innerHTML = '<p class="muted">no frames.csv in this result</p>'; return; }
+  const c = frames.columns;
+  const eps = Array.from(c.eps);
+  const top = Array.from(c.sigma_top_over_qy || []), bot = Array.from(c.sigma_bottom_over_qy || []);
+  box.replaceChildren();
+  const width = Math.max(420, Math.min(620, box.clientWidth || 520));
+  const yd = linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
+  const plot = new Plot(box, {
+    width, height: 330, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
+    x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε' },
+    y: { kind: 'linear', domain: yd, label: 'plate stress σ / q_{y}' },
+  });
+  plot.svg.id = 'stress-svg';
+  const clip = plot.clipRect();
+  plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
+  plot.line([0, ...eps], [0, ...top], { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
+  const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${plot.m.l + plot.pw - 162}, ${plot.m.t + 14})` }, plot.front);
+  svgEl('rect', { x: -6, y: -10, width: 156, height: 44, class: 'legend-box' }, lg);
+  [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].forEach(([k, t], i) => {
+    svgEl('line', { x1: 0, x2: 20, y1: i * 18, y2: i * 18, class: `series ${k}` }, lg);
+    svgEl('text', { x: 26, y: i * 18 + 4, class: 'legend-text' }, lg).textContent = t;
+  });
+  const cap = document.createElement('p');
+  cap.className = 'caption';
+  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m. <a href="/api/v1/jobs/${id}/artifacts/frames.csv">frames.csv</a>`;
+  box.append(cap);
+}
+
+// The snapshot nearest eps = 0.2 first, a tab per snapshot; a note when there is none.
+function renderSnapshot(box, list, summary) {
+  const pngs = list.filter((a) => /^snapshot_.*\.png$/.test(a.name));
+  if (!pngs.length) {
+    const want = summary.params?.snapshot_eps?.join(', ') ?? '0.2';
+    box.innerHTML = `<p class="muted">No snapshot: the run ${summary.eps_reached !== undefined ? `ended at ε = ${fixed(summary.eps_reached, 3)}, ` : ''}before the requested ε = ${escapeHtml(want)}.</p>`;
+    return;
+  }
+  const epsOf = (n) => Number(n.replace(/^snapshot_|\.png$/g, ''));
+  pngs.sort((a, b) => Math.abs(epsOf(a.name) - 0.2) - Math.abs(epsOf(b.name) - 0.2));
+  const show = (a) => `<figure><div class="snap-wrap"><img class="artifact-img" id="snap-img" alt="snapshot at eps ${epsOf(a.name)}" src="${a.url}"></div>
+    <figcaption>Particles coloured by plastic strain rate at ε = ${epsOf(a.name)}${summary.params?.geometry === 'pseudo1d' ? ' (pseudo-1D: eight periods side by side)' : ''}.</figcaption></figure>`;
+  box.innerHTML = (pngs.length > 1 ? `<div class="tabs">${pngs.map((a, i) => `<button data-i="${i}" class="${i ? '' : 'on'}">ε = ${epsOf(a.name)}</button>`).join('')}</div>` : '') + `<div id="snap-one">${show(pngs[0])}</div>`;
+  box.querySelectorAll('.tabs button').forEach((b) => b.addEventListener('click', () => {
+    box.querySelectorAll('.tabs button').forEach((x) => x.classList.toggle('on', x === b));
+    box.querySelector('#snap-one').innerHTML = show(pngs[Number(b.dataset.i)]);
+  }));
 }
 
 function table(rows) {

@@ -8,8 +8,8 @@ import { when, escapeHtml } from '../format.js';
 const POLL_MS = 2500;
 const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'preset', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
 
-export function mount(root) {
-  let alive = true, timer = null;
+// The form (each field with its hint and error line) and the card of the list.
+function pageHtml() {
   const field = (id, labelHtml, input, hint = '') => `
     <div class="f" data-field="${id}">
       <label for="f-${id}">${labelHtml}</label>${input}
@@ -18,7 +18,7 @@ export function mount(root) {
     </div>`;
   const numIn = (id, value, extra = '') => `<input id="f-${id}" name="${id}" type="text" inputmode="decimal" value="${value}" autocomplete="off" ${extra}>`;
   const scaleIn = (id) => `<select id="f-${id}" name="${id}"><option value="log" selected>log</option><option value="linear">linear</option></select>`;
-  root.innerHTML = `
+  return `
     <div class="page-head">
       <h1>Sweeps</h1>
       <p class="sub">A sweep is a grid over the Mach number <i>S</i>, the relative strength <i>R</i> and the solid fraction φ.
@@ -66,6 +66,11 @@ export function mount(root) {
         <div id="sweep-list"><p class="muted">loading…</p></div>
       </section>
     </div>`;
+}
+
+export function mount(root) {
+  let alive = true, timer = null;
+  root.innerHTML = pageHtml();
   const $ = (x) => root.querySelector(`#${x}`);
   const form = $('sweep-form');
   const touched = new Set();
@@ -109,9 +114,7 @@ export function mount(root) {
     return r;
   }
 
-  form.addEventListener('input', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); $('form-message').textContent = ''; });
-  form.addEventListener('change', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); });
-  form.addEventListener('submit', async (ev) => {
+  async function submit(ev) {
     ev.preventDefault();
     submitted = true;
     setSubmitToken($('f-token').value.trim());
@@ -146,12 +149,7 @@ export function mount(root) {
         showErrors({ token: e.status === 401 ? 'this server needs a submit token' : 'the token was refused' }, true);
         msg.textContent = `Not allowed (${e.status}): ${e.message}`;
       } else if (e.details?.length) {
-        const errs = {};
-        const rest = [];
-        for (const d of e.details) {
-          const id = formFieldOf(d.field);
-          if (id && !errs[id]) errs[id] = d.message; else rest.push(`${d.field}: ${d.message}`);
-        }
+        const { errs, rest } = fieldErrors(e.details);
         showErrors(errs, true);
         msg.textContent = `The server refused the sweep (${e.status})${rest.length ? `: ${rest.join('; ')}` : '; see the marked fields.'}`;
       } else {
@@ -160,7 +158,11 @@ export function mount(root) {
     } finally {
       $('submit-sweep').disabled = false;
     }
-  });
+  }
+
+  form.addEventListener('input', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); $('form-message').textContent = ''; });
+  form.addEventListener('change', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); });
+  form.addEventListener('submit', submit);
 
   api.limits().then((l) => {
     if (!alive) return;
@@ -178,12 +180,6 @@ export function mount(root) {
     note();
   }).catch(() => {});
 
-  function bar(c) {
-    const t = c.total || 1;
-    const seg = (k) => (c[k] ? `<span class="seg ${k}" style="width:${(100 * c[k]) / t}%" title="${c[k]} ${k}"></span>` : '');
-    return `<div class="progress" role="progressbar" aria-valuemin="0" aria-valuemax="${c.total}" aria-valuenow="${c.succeeded + c.failed + c.cancelled}">${seg('succeeded')}${seg('failed')}${seg('cancelled')}${seg('running')}</div>`;
-  }
-
   async function refresh() {
     clearTimeout(timer);
     if (!alive) return;
@@ -194,18 +190,7 @@ export function mount(root) {
       if (!sweeps.length) {
         list.innerHTML = '<p class="muted">No sweeps yet. The form creates one.</p>';
       } else {
-        list.innerHTML = `<table class="sweeps"><thead><tr><th>sweep</th><th>grid</th><th class="wide">progress</th><th></th></tr></thead><tbody>${sweeps.map((s) => {
-          const c = s.counts;
-          const phi = sweepPhis(s.request)[0] ?? 0.4;
-          const rq = s.request;
-          const grid = rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${sweepPhis(rq).length} φ`;
-          return `<tr data-sweep="${s.id}" class="sw-${s.state}">
-            <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}</div></td>
-            <td class="small">${grid}<div class="muted">φ = ${sweepPhis(rq).join(', ')}</div></td>
-            <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''} of ${c.total}</div></td>
-            <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
-              ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
-        }).join('')}</tbody></table>${total > sweeps.length ? `<p class="muted">showing the newest ${sweeps.length} of ${total}</p>` : ''}`;
+        list.innerHTML = sweepsTableHtml(sweeps, total);
         list.querySelectorAll('button.cancel').forEach((b) => b.addEventListener('click', () => cancel(Number(b.dataset.id))));
       }
     } catch (e) {
@@ -231,6 +216,43 @@ export function mount(root) {
   update();
   refresh();
   return () => { alive = false; clearTimeout(timer); };
+}
+
+// The server's field errors (its details) at the form's fields, the first one per field; the
+// rest (fields the form does not have, or a second error) as text.
+function fieldErrors(details) {
+  const errs = {};
+  const rest = [];
+  for (const d of details) {
+    const id = formFieldOf(d.field);
+    if (id && !errs[id]) errs[id] = d.message; else rest.push(`${d.field}: ${d.message}`);
+  }
+  return { errs, rest };
+}
+
+// A stacked bar of the sweep's jobs: succeeded, failed, cancelled, running.
+function bar(c) {
+  const t = c.total || 1;
+  const seg = (k) => (c[k] ? `<span class="seg ${k}" style="width:${(100 * c[k]) / t}%" title="${c[k]} ${k}"></span>` : '');
+  return `<div class="progress" role="progressbar" aria-valuemin="0" aria-valuemax="${c.total}" aria-valuenow="${c.succeeded + c.failed + c.cancelled}">${seg('succeeded')}${seg('failed')}${seg('cancelled')}${seg('running')}</div>`;
+}
+
+// The list of sweeps: name, grid, progress with counts, exports and Cancel for active sweeps.
+function sweepsTableHtml(sweeps, total) {
+  return `<table class="sweeps"><thead><tr><th>sweep</th><th>grid</th><th class="wide">progress</th><th></th></tr></thead><tbody>${sweeps.map(sweepRowHtml).join('')}</tbody></table>${total > sweeps.length ? `<p class="muted">showing the newest ${sweeps.length} of ${total}</p>` : ''}`;
+}
+
+function sweepRowHtml(s) {
+  const c = s.counts;
+  const phi = sweepPhis(s.request)[0] ?? 0.4;
+  const rq = s.request;
+  const grid = rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${sweepPhis(rq).length} φ`;
+  return `<tr data-sweep="${s.id}" class="sw-${s.state}">
+    <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}</div></td>
+    <td class="small">${grid}<div class="muted">φ = ${sweepPhis(rq).join(', ')}</div></td>
+    <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''} of ${c.total}</div></td>
+    <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
+      ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
 }
 
 function axisText(a) {
