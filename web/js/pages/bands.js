@@ -1,5 +1,6 @@
 // Band speed: c_b/V against q_y/(rho V^2) = R/S^2 on log-log axes, coloured by the number of
-// reflections N_r (Fig. 3 of the paper), from the labelled runs of one phi.
+// reflections N_r, with the uncertainty of each c_b/V as an error bar (Fig. 3 of the paper), from
+// the runs of one phi labelled as bands. Runs that cannot be plotted are counted with the reason.
 import { api } from '../api.js';
 import { CLASSES, label } from '../classes.js';
 import { Plot, logExtent, svgEl, colormap, cssColor } from '../plot.js';
@@ -10,79 +11,217 @@ import { setParams } from '../router.js';
 
 const POLL_MS = 4000;
 const NR_MAX = 6; // colours for N_r = 0 .. 5 and "6 or more"
+const CAP_PX = 4; // half the width of an error bar's cap
+
+// The classes Fig. 3 plots: the bands, (a) non-reflecting and (b) reflecting.
+export const BAND_CLASSES = ['a', 'b'];
+
+// The two readings of c_b/V the classifier gives (docs/classifier.md), each with its uncertainty.
+export const READINGS = {
+  fit: { value: 'band_speed_ratio', error: 'band_speed_error', name: 'least-squares fit', note: 'slope of the leading edge, ± its standard error' },
+  transit: { value: 'band_speed_transit', error: 'band_speed_transit_error', name: 'transit', note: 'travel over strain between the first and last points of the leg, ± one row at each end' },
+};
+
+// Why a run at this phi is not on the plot, in the order the page lists them.
+const LEFT_OFF = {
+  missing: (n) => `${n} band${n === 1 ? '' : 's'} without a measured <i>c</i><sub>b</sub>/<i>V</i>`,
+  nonPositive: (n) => `${n} band${n === 1 ? '' : 's'} with <i>c</i><sub>b</sub>/<i>V</i> ≤ 0 (a log axis cannot show ${n === 1 ? 'it' : 'them'})`,
+  notBand: (n) => `${n} run${n === 1 ? '' : 's'} of class c to f (not a band)`,
+  unlabelled: (n) => `${n} run${n === 1 ? '' : 's'} without a label (pending, failed, unstable or unclassified)`,
+};
 
 export function nrColor(n) {
   const lut = colormap('viridis');
   return cssColor(lut, Math.min(n, NR_MAX) / NR_MAX * 0.92);
 }
 
-export function mount(root, params) {
-  const state = { phi: params.phi ? Number(params.phi) : null, points: [], sig: '' };
-  let alive = true, timer = null, drawn = [], plot = null;
-  root.innerHTML = `
+// Splits the runs of one phi into the plotted bands and, per reason of LEFT_OFF, those left off.
+// A plotted band's error is null when the result carries no finite, non-negative uncertainty.
+export function splitRuns(points, reading = 'fit') {
+  const { value, error } = READINGS[reading];
+  const shown = [];
+  const leftOff = Object.fromEntries(Object.keys(LEFT_OFF).map((k) => [k, []]));
+  for (const p of points) {
+    const v = p[value];
+    if (!p.class) leftOff.unlabelled.push(p);
+    else if (!BAND_CLASSES.includes(p.class)) leftOff.notBand.push(p);
+    else if (typeof v !== 'number' || !Number.isFinite(v)) leftOff.missing.push(p);
+    else if (v <= 0) leftOff.nonPositive.push(p);
+    else {
+      const e = p[error];
+      shown.push({ p, v, e: typeof e === 'number' && Number.isFinite(e) && e >= 0 ? e : null });
+    }
+  }
+  return { shown, leftOff };
+}
+
+function pageHtml() {
+  const readings = Object.entries(READINGS).map(([k, r]) => `<option value="${k}">${r.name}</option>`).join('');
+  return `
     <div class="page-head">
       <h1>Band speed</h1>
       <p class="sub">Speed of the compaction band <i>c</i><sub>b</sub>/<i>V</i> against the ratio of yield to inertial stress
-        <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = <i>R</i>/<i>S</i>², for every labelled run with a measured band speed at one φ.</p>
+        <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = <i>R</i>/<i>S</i>², for every run at one φ labelled as a band, (a) or (b), with the uncertainty of its band speed.</p>
     </div>
     <div class="layout-map">
-      <section class="card figure"><div class="figure-plot" id="bands-plot"></div><div class="figure-foot"><span id="bands-summary" class="summary"></span></div></section>
+      <section class="card figure"><div class="figure-plot" id="bands-plot"></div>
+        <div class="figure-foot"><span id="bands-summary" class="summary"></span></div>
+        <ul class="left-off" id="bands-left-off"></ul></section>
       <aside class="card controls">
         <label class="field">Solid fraction φ <select id="bands-phi" aria-label="solid fraction phi"></select></label>
+        <label class="field"><span>Reading of <i>c</i><sub>b</sub>/<i>V</i></span> <select id="bands-reading" aria-label="reading of the band speed">${readings}</select></label>
+        <p class="hint" id="bands-reading-note"></p>
         <h2 class="legend-title">Reflections <i>N</i><sub>r</sub></h2>
         <ul class="legend" id="bands-legend"></ul>
-        <p class="hint">Dashed: a non-reflecting band, <i>c</i><sub>b</sub>/<i>V</i> = 1/(1 − φ). Reflecting bands are faster and grow as a power law of <i>R</i>/<i>S</i>².</p>
+        <p class="hint">Dashed: a non-reflecting band, <i>c</i><sub>b</sub>/<i>V</i> = 1/(1 − φ). Reflecting bands are faster and grow as a power law of <i>R</i>/<i>S</i>².
+          Bars: ± the uncertainty of <i>c</i><sub>b</sub>/<i>V</i>; a bar without a cap runs off the axis.</p>
       </aside>
     </div>`;
+}
+
+// The dashed line of a non-reflecting band, c_b/V = 1/(1 - phi), with its label.
+function drawNonReflecting(plot, phi) {
+  const c0 = nonReflectingSpeed(phi);
+  const y = plot.y.map(c0);
+  svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
+  svgEl('text', { x: plot.m.l + plot.pw - 8, y: y + 16, 'text-anchor': 'end', class: 'overlay-label' }, plot.front).textContent = `non-reflecting band 1/(1 − φ) = ${c0.toFixed(3)}`;
+}
+
+// One vertical bar from c_b/V - e to c_b/V + e per band with an uncertainty, under the markers
+// (in the SVG behind the canvas); an end beyond the plot area is cut at its edge and has no cap.
+function drawErrorBars(plot, drawn) {
+  const g = svgEl('g', { class: 'error-bars' }, plot.back);
+  const top = plot.m.t, bottom = plot.m.t + plot.ph;
+  for (const d of drawn) {
+    if (d.e === null) continue;
+    const x = plot.x.map(d.xv);
+    const hi = plot.y.map(d.v + d.e);
+    const lo = d.v - d.e > 0 ? plot.y.map(d.v - d.e) : Infinity;
+    const y1 = Math.max(top, hi), y2 = Math.min(bottom, lo);
+    svgEl('line', { x1: x, x2: x, y1, y2, class: 'error-bar', 'data-job': d.p.job_id }, g);
+    if (y1 === hi) svgEl('line', { x1: x - CAP_PX, x2: x + CAP_PX, y1, y2: y1, class: 'error-cap' }, g);
+    if (y2 === lo) svgEl('line', { x1: x - CAP_PX, x2: x + CAP_PX, y1: y2, y2, class: 'error-cap' }, g);
+  }
+}
+
+// The markers on the canvas, coloured by N_r; returns the count per colour of the legend.
+function drawMarkers(plot, drawn) {
+  const counts = {};
+  const ctx = plot.ctx;
+  for (const d of drawn) {
+    const n = Math.min(d.p.n_reflections ?? 0, NR_MAX);
+    counts[n] = (counts[n] || 0) + 1;
+    ctx.beginPath();
+    ctx.arc(d.x, d.y, 6, 0, 2 * Math.PI);
+    ctx.fillStyle = nrColor(d.p.n_reflections ?? 0);
+    ctx.fill();
+    ctx.lineWidth = 1.2;
+    ctx.strokeStyle = '#1d2433';
+    ctx.stroke();
+  }
+  return counts;
+}
+
+function renderLegend(legend, counts) {
+  legend.replaceChildren(...Array.from({ length: NR_MAX + 1 }, (_, n) => {
+    const li = document.createElement('li');
+    li.dataset.count = counts[n] || 0;
+    if (!counts[n]) li.classList.add('zero');
+    li.innerHTML = `<span class="dot big" style="background:${nrColor(n)}"></span><span class="legend-name">${n === NR_MAX ? `${n} or more` : n}${n === 0 ? ' (no reflection)' : ''}</span><span class="legend-count">${counts[n] || 0}</span>`;
+    return li;
+  }));
+}
+
+// How many runs are plotted, and every run left off with its reason; the bands left off link to
+// their runs.
+function renderSummary(summary, list, phi, total, shown, leftOff) {
+  const bare = shown.filter((d) => d.e === null).length;
+  summary.dataset.plotted = String(shown.length);
+  summary.innerHTML = `<b>${shown.length}</b> band${shown.length === 1 ? '' : 's'} plotted of ${total} runs at φ = ${phi}`
+    + (bare ? ` · ${bare} without an uncertainty (no bar)` : '');
+  list.replaceChildren();
+  for (const [reason, text] of Object.entries(LEFT_OFF)) {
+    const runs = leftOff[reason];
+    if (!runs.length) continue;
+    const li = document.createElement('li');
+    li.dataset.reason = reason;
+    li.dataset.count = String(runs.length);
+    const links = reason === 'missing' || reason === 'nonPositive'
+      ? `: ${runs.map((p) => `<a href="#/run/${p.job_id}">run ${p.job_id}</a>`).join(', ')}` : '';
+    li.innerHTML = `left off: ${text(runs.length)}${links}`;
+    list.append(li);
+  }
+}
+
+function tooltipHtml(p) {
+  const reading = (r) => {
+    const v = p[r.value], e = p[r.error];
+    return v === null || v === undefined ? '—' : `${fixed(v, 3)}${e === null || e === undefined ? '' : ` ± ${fixed(e, 3)}`}`;
+  };
+  return `<div class="tt-head">run ${p.job_id}</div><table>
+      <tr><th>S</th><td>${sci(p.S)}</td></tr><tr><th>R</th><td>${sci(p.R)}</td></tr>
+      <tr><th>R/S²</th><td>${sci(stressRatio(p.S, p.R))}</td></tr>
+      <tr><th><i>c</i><sub>b</sub>/<i>V</i> (fit)</th><td>${reading(READINGS.fit)}</td></tr>
+      <tr><th><i>c</i><sub>b</sub>/<i>V</i> (transit)</th><td>${reading(READINGS.transit)}</td></tr>
+      <tr><th><i>N</i><sub>r</sub></th><td>${p.n_reflections ?? '—'}</td></tr>
+      <tr><th>class</th><td>${CLASSES[p.class] ? `<span class="dot" style="background:${CLASSES[p.class].color}"></span>` : ''}${escapeHtml(label(p.class))}</td></tr></table>`;
+}
+
+// The phi values of every sweep's request, the chosen one included (see docs/dashboard.md, API gaps).
+async function loadPhis(chosen) {
+  let sweeps = [];
+  try { sweeps = (await api.sweeps(1000)).sweeps; } catch { /* offline: only the default phi */ }
+  const phis = new Set(sweeps.flatMap((s) => sweepPhis(s.request)).map((p) => Number(p.toPrecision(12))));
+  const phi = chosen ?? (sweeps.length ? sweepPhis(sweeps[0].request)[0] ?? 0.4 : 0.4);
+  phis.add(phi);
+  return { phi, phis: [...phis].sort((a, b) => a - b) };
+}
+
+export function mount(root, params) {
+  const state = {
+    phi: params.phi ? Number(params.phi) : null,
+    reading: READINGS[params.speed] ? params.speed : 'fit',
+    points: [], sig: '',
+  };
+  let alive = true, timer = null, drawn = [], plot = null;
+  root.innerHTML = pageHtml();
   const $ = (x) => root.querySelector(`#${x}`);
   const tooltip = document.getElementById('tooltip');
 
   function render() {
-    const pts = state.points.filter((p) => p.class && Number.isFinite(p.band_speed_ratio) && p.band_speed_ratio > 0);
+    const { shown, leftOff } = splitRuns(state.points, state.reading);
     const box = $('bands-plot');
     box.replaceChildren();
     const width = Math.max(560, Math.min(1100, box.clientWidth || 760));
-    const xs = pts.map((p) => stressRatio(p.S, p.R));
-    const ys = pts.map((p) => p.band_speed_ratio).concat([nonReflectingSpeed(state.phi)]);
+    const c0 = nonReflectingSpeed(state.phi);
+    const xs = shown.map((d) => stressRatio(d.p.S, d.p.R));
+    const ys = shown.flatMap((d) => (d.e === null ? [d.v] : [d.v, d.v + d.e, d.v - d.e])).concat([c0]);
     plot = new Plot(box, {
       width, height: Math.round(Math.min(width * 0.62, Math.max(460, window.innerHeight - 260))), canvas: true, margin: { l: 78, r: 24, t: 18, b: 60 }, title: 'band speed',
       x: { kind: 'log', domain: logExtent(xs, [1e-2, 1e3]), label: 'q_{y} / (ρV^{2}) = R / S^{2}' },
-      y: { kind: 'log', domain: logExtent(ys, [0.5, 50]), label: 'band speed c_{b} / V' },
+      y: { kind: 'log', domain: logExtent(ys, [0.5, 50]), label: `band speed c_{b} / V (${READINGS[state.reading].name})` },
     });
-    const c0 = nonReflectingSpeed(state.phi);
-    const y = plot.y.map(c0);
-    svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
-    svgEl('text', { x: plot.m.l + plot.pw - 8, y: y + 16, 'text-anchor': 'end', class: 'overlay-label' }, plot.front).textContent = `non-reflecting band 1/(1 − φ) = ${c0.toFixed(3)}`;
-    drawn = pts.map((p) => ({ p, x: plot.cx(stressRatio(p.S, p.R)), y: plot.cy(p.band_speed_ratio) }));
-    const counts = {};
-    for (const d of drawn) {
-      const n = Math.min(d.p.n_reflections ?? 0, NR_MAX);
-      counts[n] = (counts[n] || 0) + 1;
-      plot.ctx.beginPath();
-      plot.ctx.arc(d.x, d.y, 6, 0, 2 * Math.PI);
-      plot.ctx.fillStyle = nrColor(d.p.n_reflections ?? 0);
-      plot.ctx.fill();
-      plot.ctx.lineWidth = 1.2;
-      plot.ctx.strokeStyle = '#1d2433';
-      plot.ctx.stroke();
-    }
-    if (!pts.length) {
+    drawNonReflecting(plot, state.phi);
+    drawn = shown.map((d, i) => ({ ...d, xv: xs[i], x: plot.cx(xs[i]), y: plot.cy(d.v) }));
+    drawErrorBars(plot, drawn);
+    const counts = drawMarkers(plot, drawn);
+    if (!shown.length) {
       svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2 + 30, 'text-anchor': 'middle', class: 'empty-note' }, plot.front)
-        .textContent = `No labelled run with a band speed at φ = ${state.phi} yet.`;
+        .textContent = `No band with a band speed at φ = ${state.phi} yet.`;
     }
     plot.canvas.dataset.count = String(drawn.length);
+    wireCanvas();
+    renderLegend($('bands-legend'), counts);
+    renderSummary($('bands-summary'), $('bands-left-off'), state.phi, state.points.length, shown, leftOff);
+    // For the browser tests: what was drawn and the y axis it was drawn on.
+    const hook = (window.__dashboard ||= { renders: [] });
+    hook.bands = { phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1], plotted: drawn.map((d) => ({ job_id: d.p.job_id, x: d.x, y: d.y })) };
+  }
+
+  function wireCanvas() {
     plot.canvas.addEventListener('mousemove', onMove);
     plot.canvas.addEventListener('mouseleave', () => { tooltip.hidden = true; });
     plot.canvas.addEventListener('click', (ev) => { const d = nearest(ev); if (d) location.hash = `#/run/${d.p.job_id}`; });
-    const legend = $('bands-legend');
-    legend.replaceChildren(...Array.from({ length: NR_MAX + 1 }, (_, n) => {
-      const li = document.createElement('li');
-      li.dataset.count = counts[n] || 0;
-      if (!counts[n]) li.classList.add('zero');
-      li.innerHTML = `<span class="dot big" style="background:${nrColor(n)}"></span><span class="legend-name">${n === NR_MAX ? `${n} or more` : n}${n === 0 ? ' (no reflection)' : ''}</span><span class="legend-count">${counts[n] || 0}</span>`;
-      return li;
-    }));
-    $('bands-summary').innerHTML = `<b>${drawn.length}</b> of ${state.points.length} runs at φ = ${state.phi} have a band speed`;
   }
 
   function nearest(ev) {
@@ -97,13 +236,7 @@ export function mount(root, params) {
     const d = nearest(ev);
     if (!d) { tooltip.hidden = true; plot.canvas.style.cursor = ''; return; }
     plot.canvas.style.cursor = 'pointer';
-    const p = d.p;
-    tooltip.innerHTML = `<div class="tt-head">run ${p.job_id}</div><table>
-      <tr><th>S</th><td>${sci(p.S)}</td></tr><tr><th>R</th><td>${sci(p.R)}</td></tr>
-      <tr><th>R/S²</th><td>${sci(stressRatio(p.S, p.R))}</td></tr>
-      <tr><th><i>c</i><sub>b</sub>/<i>V</i></th><td>${fixed(p.band_speed_ratio, 3)}</td></tr>
-      <tr><th><i>N</i><sub>r</sub></th><td>${p.n_reflections ?? '—'}</td></tr>
-      <tr><th>class</th><td>${CLASSES[p.class] ? `<span class="dot" style="background:${CLASSES[p.class].color}"></span>` : ''}${escapeHtml(label(p.class))}</td></tr></table>`;
+    tooltip.innerHTML = tooltipHtml(d.p);
     tooltip.hidden = false;
     tooltip.style.left = `${ev.clientX + 16 + window.scrollX}px`;
     tooltip.style.top = `${ev.clientY + 14 + window.scrollY}px`;
@@ -120,16 +253,25 @@ export function mount(root, params) {
     if (alive) timer = setTimeout(poll, POLL_MS);
   }
 
+  function syncUrl() {
+    setParams({ phi: state.phi, speed: state.reading === 'fit' ? '' : state.reading });
+  }
+
+  function wireControls() {
+    const phiSel = $('bands-phi'), readingSel = $('bands-reading');
+    const note = () => { $('bands-reading-note').textContent = READINGS[state.reading].note; };
+    readingSel.value = state.reading;
+    note();
+    phiSel.addEventListener('change', () => { state.phi = Number(phiSel.value); state.sig = ''; syncUrl(); poll(); });
+    readingSel.addEventListener('change', () => { state.reading = readingSel.value; note(); syncUrl(); render(); });
+  }
+
   (async () => {
-    let sweeps = [];
-    try { sweeps = (await api.sweeps(1000)).sweeps; } catch { /* offline: only the default phi */ }
+    const { phi, phis } = await loadPhis(state.phi);
     if (!alive) return;
-    const phis = new Set(sweeps.flatMap((s) => sweepPhis(s.request)).map((p) => Number(p.toPrecision(12))));
-    if (state.phi === null) state.phi = sweeps.length ? sweepPhis(sweeps[0].request)[0] ?? 0.4 : 0.4;
-    phis.add(state.phi);
-    const sel = $('bands-phi');
-    sel.replaceChildren(...[...phis].sort((a, b) => a - b).map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
-    sel.addEventListener('change', () => { state.phi = Number(sel.value); state.sig = ''; setParams({ phi: state.phi }); poll(); });
+    state.phi = phi;
+    $('bands-phi').replaceChildren(...phis.map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
+    wireControls();
     render();
     poll();
   })();
