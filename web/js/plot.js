@@ -167,7 +167,11 @@ export class Plot {
     svgEl('rect', { x: m.l, y: m.t, width: pw, height: ph, class: 'plot-frame' }, axes);
     const xl = svgEl('text', { x: m.l + pw / 2, y: m.t + ph + 46, 'text-anchor': 'middle', class: 'axislabel' }, axes);
     richText(xl, opts.x.label);
-    const yl = svgEl('text', { transform: `translate(${m.l - 52}, ${m.t + ph / 2}) rotate(-90)`, 'text-anchor': 'middle', class: 'axislabel' }, axes);
+    // The y label clears the widest tick label ("0.0005" is wider than the margin assumes).
+    let widest = 0;
+    for (const t of axes.querySelectorAll('text.ticklabel[text-anchor="end"]')) widest = Math.max(widest, t.getBBox().width);
+    const ylx = Math.max(14, Math.min(m.l - 52, x0 - 10 - widest - 12));
+    const yl = svgEl('text', { transform: `translate(${ylx}, ${m.t + ph / 2}) rotate(-90)`, 'text-anchor': 'middle', class: 'axislabel' }, axes);
     richText(yl, opts.y.label);
   }
 

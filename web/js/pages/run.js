@@ -176,12 +176,23 @@ function classHtml(r) {
     <div><div class="class-name">${escapeHtml(c?.name || r.class)}</div>
     <div class="conf"><span class="conf-bar"><span style="width:${conf === null ? 0 : Math.round(conf * 100)}%;background:${c?.color || '#888'}"></span></span> confidence ${conf === null ? '—' : fixed(conf, 2)}</div>
     <div class="muted">runner-up: ${r.runner_up ? escapeHtml(label(r.runner_up)) : '—'}</div></div></div>`;
-  const rows = [['<i>N</i><sub>r</sub> (reflections)', r.n_reflections ?? '—'], ['<i>c</i><sub>b</sub>/<i>V</i> (band speed)', r.band_speed_ratio === null ? '—' : fixed(r.band_speed_ratio, 3)]];
+  const error = r.features?.band_speed_error;
+  const speed = r.band_speed_ratio === null ? '—' : `${fixed(r.band_speed_ratio, 3)}${typeof error === 'number' ? ` ± ${fixed(error, 3)}` : ''}`;
+  const rows = [['<i>N</i><sub>r</sub> (reflections)', r.n_reflections ?? '—'], ['<i>c</i><sub>b</sub>/<i>V</i> (band speed)', speed]];
   for (const [k, v] of Object.entries(r.features || {})) {
     if (k === 'n_reflections' || k === 'band_speed_ratio') continue;
-    rows.push([`<code>${escapeHtml(k)}</code>`, typeof v === 'number' ? sci(v, 3) : escapeHtml(JSON.stringify(v))]);
+    rows.push([`<code>${escapeHtml(k)}</code>`, featureHtml(v)]);
   }
   return html + table(rows);
+}
+
+// A feature's value: a number to 3 digits, an object of numbers (the scores) one key per line.
+function featureHtml(v) {
+  if (typeof v === 'number') return sci(v, 3);
+  if (v && typeof v === 'object' && !Array.isArray(v) && Object.values(v).every((x) => typeof x === 'number')) {
+    return Object.entries(v).map(([k, x]) => `${escapeHtml(k)}: ${sci(x, 2)}`).join('<br>');
+  }
+  return escapeHtml(JSON.stringify(v));
 }
 
 // A download link per artifact, the job's JSON and its sweep's export.
