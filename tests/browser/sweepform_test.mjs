@@ -46,6 +46,8 @@ test('phi outside [0.2, 0.8], bad counts and too coarse grids are refused', () =
   assert.ok(validateSweep({ ...base, rN: '2.5' }).errors['r-n']);
   assert.match(validateSweep({ ...base, cpu: '4' }).errors.cpu, /too coarse for φ = 0.4/);
   assert.equal(validateSweep({ ...base, cpu: '5' }).ok, true);
+  assert.match(validateSweep({ ...base, cps: '0.5' }).errors.cps, /a number in \[1, 50\]/);
+  assert.deepEqual(validateSweep({ ...base, cps: '6' }).body.numerics, { preset: 'fast', cells_per_strut: 6 });
   assert.equal(coarsestCellsPerUnit(0.4), 5); // strut 0.225 of a cell side: 5 cells give 1.13
   assert.ok(validateSweep({ ...base, epsEnd: '0.97' }).errors['eps-end']);
   assert.ok(validateSweep({ ...base, priority: '5000' }).errors.priority);
@@ -59,6 +61,7 @@ test('server error fields map onto the form', () => {
   assert.equal(formFieldOf('S'), 's-min');
   assert.equal(formFieldOf('phi[1]'), 'phi');
   assert.equal(formFieldOf('numerics.cells_per_unit'), 'cpu');
+  assert.equal(formFieldOf('numerics.cells_per_strut'), 'cps');
   assert.equal(formFieldOf('numerics.eps_end'), 'eps-end');
   assert.equal(formFieldOf('bogus'), null);
 });

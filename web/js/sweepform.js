@@ -49,6 +49,12 @@ export function validateSweep(v, limits) {
   else if (new Set(phis).size !== phis.length) errors.phi = 'a value is listed twice';
 
   const numerics = { preset: v.preset || 'default' };
+  if ((v.cps || '').trim() !== '') {
+    // Whether the grid it gives fits at each phi is the server's to say (it names the field).
+    const c = num(v.cps), range = scene.cells_per_strut;
+    if (!Number.isFinite(c) || !inside(range, c)) errors.cps = `a number in ${show(range)}`;
+    else numerics.cells_per_strut = c;
+  }
   if ((v.cpu || '').trim() !== '') {
     const c = num(v.cpu);
     const cells = scene.cells_per_unit;
@@ -99,6 +105,7 @@ export function formFieldOf(serverField) {
   if (m) return `${m[1].toLowerCase()}-${m[2] === 'scale' ? 'scale' : m[2] || 'min'}`;
   if (/^phi/.test(f) || /^points.*phi/.test(f)) return 'phi';
   if (f === 'numerics.cells_per_unit') return 'cpu';
+  if (f === 'numerics.cells_per_strut') return 'cps';
   if (f === 'numerics.eps_end') return 'eps-end';
   if (f === 'numerics.snapshot_eps' || f.startsWith('numerics.snapshot_eps')) return 'snapshots';
   if (f === 'numerics.preset' || f === 'numerics') return 'preset';

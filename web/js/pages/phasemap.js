@@ -185,9 +185,16 @@ export function mount(root, params) {
     sweepSel.value = keep;
   }
 
+  // A grid as its cells per unit cell and across a strut, with the preset's name when a preset
+  // gives it: the fewest cells per unit cell that reach the preset's cells across the strut, so
+  // the grid's own count is at most one strut's share of a cell above the preset's.
   function presetName(cpu) {
-    const p = state.presets.find((x) => x.cells_per_unit === cpu);
-    return p ? `${p.name} (${cpu} cells/unit)` : `${cpu} cells/unit`;
+    const pt = state.points.find((x) => x.cells_per_unit === cpu);
+    const cps = pt ? pt.cells_per_strut : null;
+    const share = cps ? cps / cpu : 0;
+    const p = cps ? state.presets.find((x) => cps >= x.cells_per_strut - 1e-9 && cps - share < x.cells_per_strut - 1e-9) : null;
+    const what = cps ? `${cpu} cells/unit, ${cps.toFixed(1)} across a strut` : `${cpu} cells/unit`;
+    return p ? `${p.name} (${what})` : what;
   }
 
   function fillCpuOptions() {

@@ -11,7 +11,7 @@ import { sci, fixed, when, duration, bytes, escapeHtml } from '../format.js';
 const POLL_MS = 2000;
 const UNITS = {
   S: 'Mach number V/√(E/ρ)', R: 'q_y / E', phi: 'solid fraction', rho: 'kg/m²', nu: 'Poisson ratio',
-  q_y: 'N/m', h0: 'm', cells_per_unit: 'grid cells per unit cell', particles_per_cell: 'per cell per direction',
+  q_y: 'N/m', h0: 'm', cells_per_strut: 'grid cells across the thinnest strut', cells_per_unit: 'grid cells per unit cell (0: from the strut)', particles_per_cell: 'per cell per direction',
   cfl: 'Courant number', eps_end: 'final imposed strain', d_eps: 'strain between frames', snapshot_eps: 'imposed strain',
   perturbation: 'of the particle spacing', n_rows: 'unit cells high', n_cols: 'unit cells wide (full 2D)',
 };
@@ -73,7 +73,7 @@ export function mount(root, params) {
       : `<span class="badge state-${cat}">${escapeHtml(lk.name)}</span>`;
     $('run-title').innerHTML = `Run ${job.id} ${badge}`;
     const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
-    $('run-sub').innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell${progress}`;
+    $('run-sub').innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell (${Number(job.cells_per_strut).toFixed(1)} across a strut)${progress}`;
     document.title = `run ${job.id} · compaction-sweep`;
   }
 

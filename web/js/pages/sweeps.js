@@ -6,7 +6,7 @@ import { sweepPhis } from '../sweepmath.js';
 import { when, escapeHtml } from '../format.js';
 
 const POLL_MS = 2500;
-const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'preset', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
+const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
 
 // The form (each field with its hint and error line) and the card of the list.
 function pageHtml() {
@@ -40,8 +40,11 @@ function pageHtml() {
             ${field('preset', 'Numerics preset', '<select id="f-preset" name="preset"><option value="fast">fast</option><option value="default" selected>default</option><option value="reference">reference</option></select>', '<span id="preset-note"></span>')}
           </div>
           <details class="advanced"><summary>Numerics over the preset, priority</summary>
-            <div class="row3">
-              ${field('cpu', 'cells per unit cell', numIn('cpu', '', 'placeholder="preset"'))}
+            <div class="row2">
+              ${field('cps', 'cells across a strut', numIn('cps', '', 'placeholder="preset"'), 'the same resolution at every φ')}
+              ${field('cpu', 'cells per unit cell', numIn('cpu', '', 'placeholder="from the strut"'), 'an explicit grid instead')}
+            </div>
+            <div class="row2">
               ${field('eps-end', 'final strain ε<sub>end</sub>', numIn('eps-end', '', 'placeholder="fully dense"'))}
               ${field('snapshots', 'snapshots at ε', numIn('snapshots', '', 'placeholder="0.2"'))}
             </div>
@@ -79,7 +82,7 @@ export function mount(root) {
   const values = () => ({
     name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
     rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
-    phi: $('f-phi').value, preset: $('f-preset').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
+    phi: $('f-phi').value, preset: $('f-preset').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
     snapshots: $('f-snapshots').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
   });
 
@@ -91,7 +94,7 @@ export function mount(root) {
       el.textContent = msg;
       el.closest('.f').classList.toggle('invalid', !!msg);
       $(`f-${id}`)?.setAttribute('aria-invalid', msg ? 'true' : 'false');
-      if (msg && ['cpu', 'eps-end', 'snapshots', 'priority', 'attempts'].includes(id)) el.closest('details').open = true;
+      if (msg && ['cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'].includes(id)) el.closest('details').open = true;
     }
   }
 
@@ -173,7 +176,7 @@ export function mount(root) {
   api.presets().then((p) => {
     if (!alive) return;
     const sel = $('f-preset');
-    sel.replaceChildren(...p.presets.map((x) => new Option(`${x.name} (${x.cells_per_unit} cells/unit)`, x.name, false, x.name === p.default)));
+    sel.replaceChildren(...p.presets.map((x) => new Option(`${x.name} (${x.cells_per_strut} cells across a strut)`, x.name, false, x.name === p.default)));
     sel.value = p.default;
     const note = () => { $('preset-note').textContent = p.presets.find((x) => x.name === sel.value)?.description || ''; };
     sel.addEventListener('change', note);
