@@ -49,7 +49,9 @@ def run_all(work, scenes, jobs=1, run=RUN):
     # is a cheap one and the lanes stay busy.
     def cost(item):
         f = item[1]
-        c = float(f.get("cells_per_unit", 20))
+        phi = float(f.get("phi", 0.4))
+        c = float(f.get("cells_per_unit") or
+                  float(f.get("cells_per_strut", 4.5)) / (1 - (1 - min(phi, 0.99)) ** 0.5))
         n = 17 if f.get("geometry") == "full2d" else 1
         return -(c ** 3) * n * float(f.get("eps_end", 0.6)) / float(f["S"])
 

@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""The paper's invariance claim, measured: at fixed S and R the pattern does not depend on q_y,
+rho or nu.
+
+For the examples (a) and (b) (phi = 0.4, pseudo-1D, to eps = 0.2, at each resolution of
+--cells-per-strut: 4.5 is the default preset, 9 the reference preset) it runs the reference material (q_y = 250 N/m, rho = 1000 kg/m^2,
+nu = 0.3), the same S and R with q_y and rho scaled (q_y x 40, rho x 0.1: E, V and time change,
+the dimensionless problem does not), and nu = 0.2 and 0.35. It writes a table of label, both
+readings of c_b/V (docs/classifier.md) and N_r, and checks each against the reference material:
+same label and N_r, c_b/V within 5 %; scaled q_y and rho agree to round-off (1e-9).
+
+usage: bench/validation/invariance.py [--cells-per-strut 4.5,9] [--examples a,b] [--work DIR]
+                                     [--bin DIR] [--jobs N] [--out FILE]
+Exit code 1 when a variant differs at the finest resolution asked for.
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+
+EXAMPLES = {"a": {"S": 4e-3, "R": 1e-5}, "b": {"S": 4e-3, "R": 4e-4}}
+BASE = {"phi": 0.4, "eps_end": 0.2, "snapshot_eps": ""}
+VARIANTS = {  # name: (changed material constants, what the check allows)
+    "reference material": ({}, None),
+    "q_y x 40, rho x 0.1": ({"q_y": 1e4, "rho": 100.0}, "round-off"),
+    "nu = 0.2": ({"nu": 0.2}, "5 %"),
+    "nu = 0.35": ({"nu": 0.35}, "5 %"),
+}
+TOLERANCE = {"round-off": 1e-9, "5 %": 0.05}
+
+
+def fmt(v, digits=4):
+    return "-" if v is None else "%.*g" % (digits, v)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--cells-per-strut", default="4.5")
+    ap.add_argument("--examples", default=",".join(EXAMPLES))
+    ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "invariance"))
+    ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "invariance.md"))
+    a = ap.parse_args()
+    run_bin, classify_bin = (os.path.join(a.bin, b) for b in ("compaction-run", "compaction-classify"))
+    resolutions = [float(c) for c in a.cells_per_strut.split(",")]
+    examples = [e for e in a.examples.split(",") if e]
+    for e in examples:
+        if e not in EXAMPLES:
+            ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
+    name = lambda ex, cps, i: "%s-cps%g-%d" % (ex, cps, i)
+    scenes = {}
+    for cps in resolutions:
+        for ex in examples:
+            for i, (variant, (material, _)) in enumerate(VARIANTS.items()):
+                scenes[name(ex, cps, i)] = dict(BASE, **EXAMPLES[ex], **material, cells_per_strut=cps)
+    dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=run_bin)
+
+    lines = ["# Invariance at fixed S and R: q_y, rho and nu", "",
+             "Made by `bench/validation/invariance.py %s`. phi = 0.4, pseudo-1D, to eps = 0.2, "
+             "S = 4e-3; 4.5 cells across a strut is the default preset (20 per unit cell), 9 the "
+             "reference preset (40). Checked against the reference material of the same example "
+             "and resolution: the same label and N_r, and c_b/V (both readings) within the "
+             "tolerance of its row." % " ".join(sys.argv[1:]), ""]
+    failures = {cps: [] for cps in resolutions}
+    for cps, ex in ((c, e) for c in resolutions for e in examples):
+        sr = EXAMPLES[ex]
+        lines += ["## (%s): R = %g, %g cells across a strut" % (ex, sr["R"], cps), "",
+                  "| material | label (confidence) | c_b/V fit | c_b/V transit | N_r | against the reference material | CPU [s] |",
+                  "|---|---|---|---|---|---|---|"]
+        base = None
+        for i, (variant, (_, tolerance)) in enumerate(VARIANTS.items()):
+            d = dirs[name(ex, cps, i)]
+            c = runs.classify(d, classify_bin)
+            f = c.get("features", {})
+            m = {"label": c.get("class"), "conf": c.get("confidence"), "fit": f.get("band_speed_ratio"),
+                 "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
+                 "transit_err": f.get("band_speed_transit_error"), "n_r": c.get("n_reflections")}
+            verdict = "-"
+            if base is None:
+                base = m
+            else:
+                tol = TOLERANCE[tolerance]
+                dev = max(abs(m[k] / base[k] - 1) for k in ("fit", "transit"))
+                ok = m["label"] == base["label"] and m["n_r"] == base["n_r"] and dev <= tol
+                verdict = "%s: c_b/V off by %.2g %% (allowed %s)%s" % (
+                    "same" if ok else "DIFFERENT", 100 * dev, tolerance,
+                    "" if m["label"] == base["label"] else ", label " + str(m["label"]))
+                if not ok:
+                    failures[cps].append("(%s) %s" % (ex, variant))
+            lines.append("| %s | %s (%s) | %s +- %s | %s +- %s | %s | %s | %.0f |" % (
+                variant, m["label"], fmt(m["conf"], 2), fmt(m["fit"]), fmt(m["fit_err"], 2),
+                fmt(m["transit"]), fmt(m["transit_err"], 2), m["n_r"], verdict,
+                runs.summary(d)["wall_seconds"]))
+        lines.append("")
+    for cps in resolutions:
+        lines.append("Result at %g cells across a strut: %s" % (cps, (
+            "every variant gives the reference material's pattern." if not failures[cps] else
+            "differs from the reference material: " + "; ".join(failures[cps]) + ".")))
+    lines.append("")
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    return 1 if failures[max(resolutions)] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
