@@ -1,4 +1,5 @@
-// What the HTTP routes share: the store, the options, request counters.
+// What the HTTP routes share: the store, the options, request counters, the answers clients
+// poll, the workers seen.
 #pragma once
 
 #include <atomic>
@@ -6,9 +7,11 @@
 
 #include <httplib.h>
 
+#include "answer_cache.hpp"
 #include "store.hpp"
 #include "options.hpp"
 #include "planner.hpp"
+#include "workers_seen.hpp"
 
 namespace compaction::server {
 
@@ -23,6 +26,8 @@ struct App {
   ServerOptions options;
   PlannerLimits limits;
   RequestCounters requests;
+  AnswerCache answers;
+  WorkersSeen workers;
 };
 
 // One registration function per resource (routes_*.cpp).

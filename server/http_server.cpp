@@ -225,6 +225,13 @@ HttpServer::HttpServer(ConnectionLimits limits) : limits_(limits) {
   });
 }
 
+bool HttpServer::listen_after_bind() {
+  // listen() again on the listening socket sets its backlog (Linux).
+  const socket_t sock = svr_sock_;
+  if (sock != INVALID_SOCKET && ::listen(sock, limits_.listen_backlog) != 0) return false;
+  return httplib::Server::listen_after_bind();
+}
+
 void HttpServer::headers_complete() {
   if (current && current->stream) current->stream->headers_complete();
 }

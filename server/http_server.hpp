@@ -11,6 +11,9 @@
 //    body is never read into memory and never parsed as the next request.
 //  - TCP_NODELAY on every connection (no 40 ms stall between headers and body on keep-alive),
 //    and SO_REUSEADDR without SO_REUSEPORT: a second server on a busy port fails to bind.
+//  - A listen backlog of listen_backlog connections (cpp-httplib's library listens with 5: a
+//    few dozen workers or readers connecting at once overflowed it, and the connections beyond
+//    waited for the client's SYN retries, 1, 3, 7, 15 s, or were reset).
 #pragma once
 
 #include <cstddef>
@@ -26,6 +29,8 @@ struct ConnectionLimits {
   double keep_alive_seconds = 5;         // wait for the next request on an idle connection
   std::size_t max_header_bytes = 64 << 10;
   int max_threads = 128;                 // connections served at once
+  int listen_backlog = 1024;             // connections waiting to be accepted (the kernel caps
+                                         // it at net.core.somaxconn)
 };
 
 class HttpServer : public httplib::Server {
@@ -33,6 +38,10 @@ class HttpServer : public httplib::Server {
   explicit HttpServer(ConnectionLimits limits = {});
 
   const ConnectionLimits& connection_limits() const { return limits_; }
+
+  // Serves the bound socket (bind_to_port, bind_to_any_port) with the listen backlog of the
+  // limits, until stop().
+  bool listen_after_bind();
 
   // Called by the request guard on the thread handling the request: the headers are in
   // (the header deadline and byte cap no longer apply).

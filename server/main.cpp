@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     config.engine_version = compaction::engine_version();
     Store store(options->db, config);
 
-    App app{store, *options, {}, {}};
+    App app{store, *options, {}, {}, {}, {}};
     app.limits.max_points = static_cast<std::size_t>(options->max_sweep_points);
     app.limits.max_bundle_bytes = static_cast<std::size_t>(options->max_upload_mb) << 20;
 

@@ -1,7 +1,10 @@
 #include "metrics.hpp"
 
+#include <cstdio>
 #include <map>
 #include <sstream>
+
+#include "safe_text.hpp"
 
 namespace compaction::server {
 
@@ -13,10 +16,40 @@ std::int64_t lookup(const std::vector<std::pair<std::string, std::int64_t>>& v,
   }
   return 0;
 }
+std::string seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", s);
+  return buf;
+}
+
 }  // namespace
 
-std::string render_metrics(const StoreMetrics& m, const RequestCounters& requests) {
+std::string label_value(const std::string& v) {
+  std::string out;
+  for (char c : valid_utf8(v)) {
+    if (c == '\\') {
+      out += "\\\\";
+    } else if (c == '"') {
+      out += "\\\"";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string render_metrics(const ScrapeMetrics& scrape, const RequestCounters& requests,
+                           const std::vector<std::pair<std::string, std::int64_t>>& workers_seen,
+                           const BuildInfo& build) {
+  const StoreMetrics& m = scrape.store;
   std::ostringstream o;
+  o << "# HELP compaction_build_info The server's build: engine version and source revision.\n"
+       "# TYPE compaction_build_info gauge\n"
+       "compaction_build_info{version=\""
+    << label_value(build.version) << "\",revision=\"" << label_value(build.source_revision)
+    << "\"} 1\n";
   o << "# HELP compaction_jobs Jobs in the database by state.\n"
        "# TYPE compaction_jobs gauge\n";
   for (const char* s : {"queued", "running", "succeeded", "failed", "cancelled"}) {
@@ -41,6 +74,30 @@ std::string render_metrics(const StoreMetrics& m, const RequestCounters& request
   for (const char* k : {"queued", "leased", "released", "lease_expired", "failed", "retry",
                         "succeeded", "cancelled"}) {
     o << "compaction_job_events_total{kind=\"" << k << "\"} " << lookup(m.events_by_kind, k)
+      << "\n";
+  }
+  o << "# HELP compaction_job_duration_seconds Succeeded jobs by the time from the lease that "
+       "succeeded to its result.\n"
+       "# TYPE compaction_job_duration_seconds histogram\n";
+  for (std::size_t i = 0; i < scrape.duration_buckets.size(); ++i) {
+    o << "compaction_job_duration_seconds_bucket{le=\"" << job_duration_buckets_seconds[i]
+      << "\"} " << scrape.duration_buckets[i] << "\n";
+  }
+  o << "compaction_job_duration_seconds_bucket{le=\"+Inf\"} " << scrape.duration_count << "\n"
+    << "compaction_job_duration_seconds_sum " << seconds(scrape.duration_sum_seconds) << "\n"
+    << "compaction_job_duration_seconds_count " << scrape.duration_count << "\n";
+  o << "# HELP compaction_worker_last_seen_timestamp_seconds When a worker last asked for a "
+       "lease or sent a heartbeat (workers seen in the last 24 h, at most 500).\n"
+       "# TYPE compaction_worker_last_seen_timestamp_seconds gauge\n";
+  for (const auto& [worker, at] : workers_seen) {
+    o << "compaction_worker_last_seen_timestamp_seconds{worker=\"" << label_value(worker)
+      << "\"} " << seconds(static_cast<double>(at) / 1000.0) << "\n";
+  }
+  o << "# HELP compaction_worker_lease_expiries_total Leases that expired, by the worker that "
+       "held them (the 100 workers with the newest expiries).\n"
+       "# TYPE compaction_worker_lease_expiries_total counter\n";
+  for (const auto& [worker, n] : scrape.lease_expiries_by_worker) {
+    o << "compaction_worker_lease_expiries_total{worker=\"" << label_value(worker) << "\"} " << n
       << "\n";
   }
   o << "# HELP compaction_sweeps_total Sweeps created.\n"

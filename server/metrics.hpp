@@ -1,13 +1,28 @@
 // Prometheus text exposition of the queue (jobs by state, queue depth, results, lease
-// expiries and other job events) and of the HTTP requests served.
+// expiries and other job events, job durations), of the workers (last seen, lease expiries by
+// worker), of the HTTP requests served and of the build.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app.hpp"
 
 namespace compaction::server {
 
-std::string render_metrics(const StoreMetrics& m, const RequestCounters& requests);
+struct BuildInfo {
+  std::string version;          // the engine version the server queues jobs for
+  std::string source_revision;  // the commit the server was built from
+};
+
+// workers_seen: name and time (ms since the epoch) of the last call, as WorkersSeen::list.
+std::string render_metrics(const ScrapeMetrics& m, const RequestCounters& requests,
+                           const std::vector<std::pair<std::string, std::int64_t>>& workers_seen,
+                           const BuildInfo& build);
+
+// A label value in the text format: backslash, double quote and newline escaped.
+std::string label_value(const std::string& v);
 
 }  // namespace compaction::server

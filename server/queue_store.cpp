@@ -74,15 +74,16 @@ LeaseCheck QueueStore::check_lease(std::int64_t job_id, const std::string& token
 }
 
 LeaseCheck QueueStore::heartbeat(std::int64_t job_id, const std::string& token, double eps,
-                               Millis now, Millis& deadline) {
+                               Millis now, Millis& deadline, std::string* worker) {
   std::lock_guard lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
   auto s = db_.writer.prepare(
       "UPDATE jobs SET lease_deadline = ?3 + ?4, heartbeat_at = ?3, progress_eps = ?5"
-      " WHERE id = ?1 AND state = 'running' AND lease_token = ?2 RETURNING lease_deadline");
+      " WHERE id = ?1 AND state = 'running' AND lease_token = ?2 RETURNING lease_deadline, worker");
   s.bind(1, job_id).bind(2, token).bind(3, now).bind(4, db_.config.lease_ms).bind(5, eps);
   if (!s.step()) return missing_or_lost(db_.writer, job_id);
   deadline = s.int64(0);
+  if (worker) *worker = s.text(1);
   s.run();
   tx.commit();
   return LeaseCheck::ok;
@@ -102,7 +103,7 @@ LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
       if (!keep) files.remove(folder);
     }
   } files_guard{db_.files, folder};
-  std::lock_guard lock(db_.write_mutex);
+  std::unique_lock lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
   auto s = db_.writer.prepare(
       "UPDATE jobs SET state = 'succeeded', lease_token = NULL, lease_deadline = NULL,"
@@ -154,6 +155,7 @@ LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
             r.status == "ok" ? "" : "unstable: " + r.reason);
   tx.commit();
   files_guard.keep = true;
+  db_.wait_durable(lock);
   return LeaseCheck::ok;
 }
 
@@ -228,6 +230,9 @@ int QueueStore::requeue_expired(Millis now) {
       "UPDATE jobs SET state = ?2, lease_token = NULL, lease_deadline = NULL, last_error = ?3,"
       " run_after = ?4, finished_at = CASE WHEN ?2 = 'failed' THEN ?4 ELSE NULL END"
       " WHERE id = ?1 AND state = 'running' AND lease_deadline = ?5");
+  auto by_worker = db_.writer.prepare(
+      "INSERT INTO worker_lease_expiries (worker, total, last_at) VALUES (?1, 1, ?2)"
+      " ON CONFLICT (worker) DO UPDATE SET total = total + 1, last_at = max(last_at, ?2)");
   for (const Expired& e : expired) {
     const bool give_up = e.attempts >= e.max_attempts;
     const std::string why = "lease expired (no heartbeat from " + e.worker.value_or("?") +
@@ -241,6 +246,10 @@ int QueueStore::requeue_expired(Millis now) {
         .run();
     log_event(db_.writer, e.id, now, "lease_expired", e.attempts, e.worker,
               give_up ? why + "; attempts used up" : why);
+    if (e.worker) {
+      by_worker.reset();
+      by_worker.bind(1, *e.worker).bind(2, now).run();
+    }
   }
   tx.commit();
   return static_cast<int>(expired.size());

@@ -63,8 +63,9 @@ class QueueStore {
   // Takes the best queued job (priority, then age) of this engine version.
   std::optional<Lease> lease(const std::string& worker, const std::string& engine_version,
                              Millis now);
+  // worker, when given, receives the name of the worker that holds the lease.
   LeaseCheck heartbeat(std::int64_t job_id, const std::string& token, double eps, Millis now,
-                       Millis& deadline);
+                       Millis& deadline, std::string* worker = nullptr);
   // Writes the artifact files (outside the write lock), then the result and its artifact rows
   // in one transaction.
   LeaseCheck complete(std::int64_t job_id, const std::string& token, const ResultRecord& r,
@@ -77,7 +78,8 @@ class QueueStore {
   // complete() checks again inside its transaction).
   LeaseCheck check_lease(std::int64_t job_id, const std::string& token);
   // The lease rescuer: running jobs whose deadline passed go back to the queue (or to failed
-  // when their attempts are used up). Returns the number of jobs moved.
+  // when their attempts are used up), each counted under its worker in worker_lease_expiries.
+  // Returns the number of jobs moved.
   int requeue_expired(Millis now);
   // The canonical scene and engine version of a job (to check an upload against them).
   std::optional<std::pair<std::string, std::string>> job_scene(std::int64_t job_id);

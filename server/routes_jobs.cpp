@@ -1,4 +1,5 @@
-// /api/v1/jobs (list with filters, show, artifacts) and /api/v1/phase-map.
+// /api/v1/jobs (list with filters, show, artifacts) and /api/v1/phase-map. The list and the
+// map are the answers clients poll: served through the answer cache (ETag, If-None-Match).
 #include "app.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
@@ -22,7 +23,8 @@ void register_job_routes(httplib::Server& server, App& app) {
     f.phi = query_number(req, "phi");
     f.limit = query_int(req, "limit", 100, 1, 1000);
     f.offset = query_int(req, "offset", 0, 0, 1000000000);
-    send_json(res, 200, views::jobs(app.store.reads.jobs(f), f.limit, f.offset));
+    app.answers.serve(req, res, app.store.db.writer.commits(),
+                      [&] { return views::jobs(app.store.reads.jobs(f), f.limit, f.offset); });
   });
 
   add_route(server, endpoints::show_job,
@@ -55,7 +57,10 @@ void register_job_routes(httplib::Server& server, App& app) {
              [&app](const httplib::Request& req, httplib::Response& res) {
                const auto phi = query_number(req, "phi");
                if (!phi) throw ApiError(422, "phi", "is required (e.g. ?phi=0.4)");
-               send_json(res, 200, views::phase_map(*phi, app.store.reads.phase_map(*phi, query_id(req, "sweep"))));
+               const auto sweep = query_id(req, "sweep");
+               app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+                 return views::phase_map(*phi, app.store.reads.phase_map(*phi, sweep));
+               });
              });
 }
 

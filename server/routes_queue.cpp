@@ -35,7 +35,9 @@ void lease(App& app, const httplib::Request& req, httplib::Response& res) {
   for (const auto& [key, value] : body.items()) {
     if (key != "worker" && key != "engine_version") throw ApiError(422, key, "unknown key");
   }
-  const auto lease = app.store.queue.lease(worker, version, now_ms());
+  const Millis now = now_ms();
+  app.workers.seen(worker, now);
+  const auto lease = app.store.queue.lease(worker, version, now);
   if (!lease) {
     res.status = 204;  // nothing to do now
     return;
@@ -66,7 +68,10 @@ void heartbeat(App& app, const httplib::Request& req, httplib::Response& res) {
     eps = e.get<double>();
   }
   Millis deadline = 0;
-  check_lease(app.store.queue.heartbeat(id, token, eps, now_ms(), deadline));
+  std::string worker;
+  const Millis now = now_ms();
+  check_lease(app.store.queue.heartbeat(id, token, eps, now, deadline, &worker));
+  app.workers.seen(worker, now);
   send_json(res, 200, {{"lease_deadline", deadline}});
 }
 

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "app.hpp"
+#include "clock.hpp"
 #include "compaction/result.hpp"
 #include "endpoints.hpp"
 #include "http_server.hpp"
@@ -58,7 +59,9 @@ void register_service_routes(httplib::Server& server, App& app) {
 
   auto metrics = [&app](const httplib::Request&, httplib::Response& res) {
     res.status = 200;
-    res.set_content(render_metrics(app.store.reads.metrics(), app.requests),
+    res.set_content(render_metrics(app.store.reads.scrape_metrics(), app.requests,
+                                   app.workers.list(now_ms()),
+                                   {app.store.config().engine_version, compaction::source_revision()}),
                     "text/plain; version=0.0.4");
   };
   add_route(server, endpoints::metrics, metrics);

@@ -1,4 +1,5 @@
-// /api/v1/sweeps: create (grid or points), list, show with progress counts, cancel, export.
+// /api/v1/sweeps: create (grid or points), list (through the answer cache: ETag,
+// If-None-Match), show with progress counts, cancel, export.
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -59,6 +60,8 @@ void register_sweep_routes(httplib::Server& server, App& app) {
     const SweepPlan plan = plan_sweep(body, app.limits);
     const CreatedSweep c =
         app.store.sweeps.create(sweep_rows(plan, app.store.config().engine_version), now_ms());
+    // Points whose results other sweeps have are labelled already: plan past them.
+    if (plan.adaptive) app.adaptive.advance(app.store, app.limits, c.id, now_ms());
     spdlog::info("sweep created id={} name=\"{}\" jobs={} new={} reused={} shared={} requeued={}",
                  c.id, log_escape(plan.name), c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
     const json out = views::created_sweep(*app.store.reads.sweep(c.id), c, plan.preset);
@@ -69,7 +72,9 @@ void register_sweep_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::list_sweeps, [&app](const httplib::Request& req, httplib::Response& res) {
     const int limit = query_int(req, "limit", 100, 1, 1000);
     const int offset = query_int(req, "offset", 0, 0, 1000000000);
-    send_json(res, 200, views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset));
+    app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+      return views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset);
+    });
   });
 
   add_route(server, endpoints::show_sweep,

@@ -3,6 +3,8 @@
 // errors become SqliteError carrying SQLite's message.
 #pragma once
 
+#include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -27,7 +29,10 @@ enum class Access { read_write, read_only };
 
 class Database {
  public:
-  // Opens (creating) the file, sets WAL, synchronous FULL, foreign keys and the busy timeout.
+  // Opens (creating) the file, sets WAL, synchronous NORMAL, foreign keys and the busy timeout.
+  // In WAL mode NORMAL keeps every commit atomic and the file consistent through any crash,
+  // but a commit reaches the disk only with the next sync of the WAL (WalSync) or checkpoint:
+  // a power loss may undo the last commits. A crash of the process alone loses nothing.
   // A read-only connection needs the file to exist in WAL mode already.
   explicit Database(const std::string& path, int busy_timeout_ms = 5000,
                     Access access = Access::read_write);
@@ -43,9 +48,16 @@ class Database {
   bool has_row(std::string_view sql, std::int64_t id);
   std::int64_t last_insert_rowid() const;
   sqlite3* handle() { return db_; }
+  // Write transactions that changed a row, committed on this connection so far
+  // (Transaction::commit counts them after the commit is visible to readers).
+  std::uint64_t commits() const { return commits_.load(); }
+  // Rows changed by every statement on this connection so far.
+  std::int64_t total_changes() const;
 
  private:
+  friend class Transaction;
   sqlite3* db_ = nullptr;
+  std::atomic<std::uint64_t> commits_{0};
 };
 
 class Statement {
@@ -102,7 +114,32 @@ class Transaction {
 
  private:
   Database& db_;
+  std::int64_t changes_at_begin_ = 0;
   bool done_ = false;
+};
+
+// Makes commits durable: an fsync of the database's WAL file, shared by every commit made
+// before it starts (group commit), so that concurrent writers that need durability wait for
+// one sync between them instead of one each.
+class WalSync {
+ public:
+  // db: the writer connection of the file at path, already in WAL mode.
+  WalSync(Database& db, std::string path);
+  ~WalSync();
+  WalSync(const WalSync&) = delete;
+  WalSync& operator=(const WalSync&) = delete;
+
+  // Returns once the commit numbered `commit` (Database::commits() after it) is on disk.
+  void wait_durable(std::uint64_t commit);
+
+ private:
+  Database& db_;
+  const std::string wal_path_;
+  int fd_ = -1;
+  std::mutex mutex_;
+  std::condition_variable synced_cv_;
+  std::uint64_t synced_ = 0;  // every commit up to this number is on disk
+  bool syncing_ = false;
 };
 
 // A read transaction (BEGIN DEFERRED ... COMMIT): the statements inside it see one snapshot

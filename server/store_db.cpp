@@ -9,7 +9,11 @@
 namespace compaction::server {
 
 StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
-    : config(std::move(config_in)), writer(path), readers(path), files(path + ".artifacts") {
+    : config(std::move(config_in)),
+      writer(path),
+      readers(path),
+      files(path + ".artifacts"),
+      wal(writer, path) {
   std::lock_guard lock(write_mutex);
   apply_migrations(writer, embedded_migrations());
   // Folders of results that were never committed (a crash between writing the files and the
@@ -21,6 +25,12 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
   if (const int n = files.remove_all_but(keep); n > 0) {
     spdlog::warn("removed {} artifact folder(s) of uploads that were never committed", n);
   }
+}
+
+void StoreDb::wait_durable(std::unique_lock<std::mutex>& lock) {
+  const std::uint64_t commit = writer.commits();
+  lock.unlock();
+  wal.wait_durable(commit);
 }
 
 void log_event(sqlite::Database& writer, std::int64_t job_id, Millis at, const char* kind,

@@ -1,5 +1,6 @@
 // The database behind the stores: one writer connection (its mutex: one writing thread at a
-// time, each write one BEGIN IMMEDIATE transaction), a pool of read-only connections (each
+// time, each write one BEGIN IMMEDIATE transaction; wait_durable after the commits that must
+// survive a power loss), a pool of read-only connections (each
 // read its own read transaction, so reads never wait for a write or for each other), the
 // artifact files, and the job event log every transition writes into.
 // Only the stores (queue_store, sweep_store, store_reads) and migrations hold SQL.
@@ -38,6 +39,14 @@ struct StoreDb {
   sqlite::Database writer;
   sqlite::ReaderPool readers;
   ArtifactFiles files;
+  sqlite::WalSync wal;
+
+  // Called right after a commit on the writer, with its lock: lets go of the lock, then returns
+  // once that commit is on disk. For what a client is told is stored and would not make again
+  // by itself: a result, a sweep, a cancellation. The queue's other moves (lease, heartbeat, fail, release, rescue) commit
+  // without waiting: a power loss that undoes one leaves a job running or queued, which the
+  // rescuer and the leases' tokens already handle.
+  void wait_durable(std::unique_lock<std::mutex>& lock);
 };
 
 // Appends an event to a job's log inside the caller's write transaction, counts it in the

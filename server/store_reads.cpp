@@ -145,7 +145,7 @@ Page<JobRecord> StoreReads::jobs(const JobFilter& f) {
   // Absent filters bind NULL and match everything; phi matches within 1e-9.
   const std::string where =
       " WHERE (?1 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?1))"
-      " AND (?2 IS NULL OR j.state = ?2) AND (?3 IS NULL OR abs(j.phi - ?3) < 1e-9)";
+      " AND (?2 IS NULL OR j.state = ?2) AND (?3 IS NULL OR j.phi BETWEEN ?3 - 1e-9 AND ?3 + 1e-9)";
   auto bind_filters = [&](sqlite::Statement& s) {
     s.bind(1, f.sweep_id);
     if (f.state) {
@@ -208,7 +208,7 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       feature_number("band_speed_error") + ", " + feature_number("band_speed_transit") + ", " +
       feature_number("band_speed_transit_error") +
       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id"
-      " WHERE abs(j.phi - ?1) < 1e-9"
+      " WHERE j.phi BETWEEN ?1 - 1e-9 AND ?1 + 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
       " ORDER BY j.S, j.R, j.id");
   s.bind(1, phi).bind(2, sweep_id);
@@ -266,20 +266,54 @@ std::optional<Artifact> StoreReads::artifact(std::int64_t job_id, const std::str
   return a;
 }
 
+namespace {
+
+StoreMetrics read_metrics(sqlite::Database& db) {
+  StoreMetrics m;
+  auto by_state = db.prepare("SELECT state, count(*) FROM jobs GROUP BY state ORDER BY state");
+  while (by_state.step()) m.jobs_by_state.emplace_back(by_state.text(0), by_state.int64(1));
+  auto by_kind = db.prepare("SELECT kind, total FROM event_totals ORDER BY kind");
+  while (by_kind.step()) m.events_by_kind.emplace_back(by_kind.text(0), by_kind.int64(1));
+  auto by_status =
+      db.prepare("SELECT status, count(*) FROM results GROUP BY status ORDER BY status");
+  while (by_status.step()) m.results_by_status.emplace_back(by_status.text(0), by_status.int64(1));
+  auto sweeps = db.prepare("SELECT count(*) FROM sweeps");
+  sweeps.step();
+  m.sweeps = sweeps.int64(0);
+  return m;
+}
+
+}  // namespace
+
 StoreMetrics StoreReads::metrics() {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
-  StoreMetrics m;
-  auto by_state = db->prepare("SELECT state, count(*) FROM jobs GROUP BY state ORDER BY state");
-  while (by_state.step()) m.jobs_by_state.emplace_back(by_state.text(0), by_state.int64(1));
-  auto by_kind = db->prepare("SELECT kind, total FROM event_totals ORDER BY kind");
-  while (by_kind.step()) m.events_by_kind.emplace_back(by_kind.text(0), by_kind.int64(1));
-  auto by_status =
-      db->prepare("SELECT status, count(*) FROM results GROUP BY status ORDER BY status");
-  while (by_status.step()) m.results_by_status.emplace_back(by_status.text(0), by_status.int64(1));
-  auto sweeps = db->prepare("SELECT count(*) FROM sweeps");
-  sweeps.step();
-  m.sweeps = sweeps.int64(0);
+  return read_metrics(*db);
+}
+
+ScrapeMetrics StoreReads::scrape_metrics() {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  ScrapeMetrics m;
+  m.store = read_metrics(*db);
+  // One pass over the succeeded jobs: a column per bucket, then the count and the sum.
+  std::string sql = "SELECT ";
+  for (double le : job_duration_buckets_seconds) {
+    sql += "coalesce(sum(d <= " + std::to_string(static_cast<std::int64_t>(le * 1000)) + "), 0), ";
+  }
+  sql += "count(*), coalesce(sum(d), 0) FROM (SELECT finished_at - started_at AS d FROM jobs"
+         " WHERE state = 'succeeded' AND finished_at IS NOT NULL AND started_at IS NOT NULL)";
+  auto d = db->prepare(sql);
+  d.step();
+  const int n = static_cast<int>(std::size(job_duration_buckets_seconds));
+  for (int i = 0; i < n; ++i) m.duration_buckets.push_back(d.int64(i));
+  m.duration_count = d.int64(n);
+  m.duration_sum_seconds = d.real(n + 1) / 1000.0;
+  auto w = db->prepare(
+      "SELECT worker, total FROM (SELECT worker, total FROM worker_lease_expiries"
+      " ORDER BY last_at DESC, worker LIMIT ?) ORDER BY worker");
+  w.bind(1, max_workers_with_expiries);
+  while (w.step()) m.lease_expiries_by_worker.emplace_back(w.text(0), w.int64(1));
   return m;
 }
 

@@ -107,6 +107,25 @@ struct StoreMetrics {
   std::int64_t sweeps = 0;
 };
 
+// The upper bounds (seconds) of the job-duration histogram's buckets: a run takes from seconds
+// (the fast preset) to hours (the reference resolution).
+inline constexpr double job_duration_buckets_seconds[] = {1,    10,    60,    300,   900,
+                                                          3600, 10800, 43200, 86400};
+// Workers whose lease expiries the metrics list: those with the newest expiries.
+constexpr int max_workers_with_expiries = 100;
+
+// What /metrics adds to StoreMetrics, read in the same transaction.
+struct ScrapeMetrics {
+  StoreMetrics store;
+  // Succeeded jobs by the time from the lease that succeeded to its result: cumulative counts
+  // per bucket of job_duration_buckets_seconds, then the count and the sum (seconds) of all.
+  std::vector<std::int64_t> duration_buckets;
+  std::int64_t duration_count = 0;
+  double duration_sum_seconds = 0;
+  // Lease expiries by worker (the newest max_workers_with_expiries), by name.
+  std::vector<std::pair<std::string, std::int64_t>> lease_expiries_by_worker;
+};
+
 class StoreReads {
  public:
   explicit StoreReads(StoreDb& db) : db_(db) {}
@@ -121,6 +140,7 @@ class StoreReads {
   std::optional<std::vector<ArtifactInfo>> artifacts(std::int64_t job_id);
   std::optional<Artifact> artifact(std::int64_t job_id, const std::string& name);
   StoreMetrics metrics();
+  ScrapeMetrics scrape_metrics();
   // A fingerprint of every table's content (tests: "nothing changed in the database").
   std::string fingerprint();
 

@@ -5,7 +5,7 @@
 namespace compaction::server {
 
 CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
-  std::lock_guard lock(db_.write_mutex);
+  std::unique_lock lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
   CreatedSweep out;
   db_.writer.prepare("INSERT INTO sweeps (name, request, priority, created_at) VALUES (?, ?, ?, ?)")
@@ -74,11 +74,12 @@ CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
     ++out.n_jobs;
   }
   tx.commit();
+  db_.wait_durable(lock);
   return out;
 }
 
 std::optional<std::int64_t> SweepStore::cancel(std::int64_t id, Millis now) {
-  std::lock_guard lock(db_.write_mutex);
+  std::unique_lock lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
   if (!db_.writer.has_row("SELECT 1 FROM sweeps WHERE id = ?", id)) return std::nullopt;
   db_.writer.prepare("UPDATE sweeps SET cancelled_at = ?2 WHERE id = ?1 AND cancelled_at IS NULL")
@@ -106,6 +107,7 @@ std::optional<std::int64_t> SweepStore::cancel(std::int64_t id, Millis now) {
     log_event(db_.writer, job_id, now, "cancelled", attempt, worker, "sweep " + std::to_string(id) + " cancelled");
   }
   tx.commit();
+  db_.wait_durable(lock);
   return static_cast<std::int64_t>(jobs.size());
 }
 

@@ -37,7 +37,7 @@ struct ApiTest : ::testing::Test {
     o.submit_token = submit;
     o.worker_token = worker;
     o.web_dir = "";
-    app = std::unique_ptr<App>(new App{*store, o, {}, {}});
+    app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}});
     app->limits.max_points = 50;
     register_all_routes(server, *app);
     const int port = server.bind_to_any_port("127.0.0.1");
@@ -275,4 +275,37 @@ TEST_F(ApiTest, AnEmptyQueueAnswers204) {
   auto r = post("/api/v1/leases",
                 json{{"worker", "w1"}, {"engine_version", compaction::engine_version()}}.dump(), worker);
   EXPECT_EQ(r->status, 204);
+}
+
+TEST_F(ApiTest, PolledListsAnswer304ToTheirETagUntilTheDatabaseChanges) {
+  create_sweep();
+  for (const char* path : {"/api/v1/phase-map?phi=0.4", "/api/v1/sweeps", "/api/v1/jobs?limit=5"}) {
+    auto first = client->Get(path);
+    ASSERT_EQ(first->status, 200) << path;
+    const std::string tag = first->get_header_value("ETag");
+    ASSERT_FALSE(tag.empty()) << path;
+    EXPECT_EQ(first->get_header_value("Cache-Control"), "no-cache");
+    // Its own tag, alone, weak or in a list: nothing changed, nothing sent.
+    for (const std::string& inm : {tag, "W/" + tag, "\"other\", " + tag, std::string("*")}) {
+      auto again = client->Get(path, {{"If-None-Match", inm}});
+      EXPECT_EQ(again->status, 304) << path << " with " << inm;
+      EXPECT_TRUE(again->body.empty()) << path;
+      EXPECT_EQ(again->get_header_value("ETag"), tag) << path;
+    }
+    auto other = client->Get(path, {{"If-None-Match", "\"other\""}});
+    EXPECT_EQ(other->status, 200) << path;
+    EXPECT_EQ(other->body, first->body) << path;
+  }
+  // Another URL has another tag at the same version.
+  EXPECT_NE(client->Get("/api/v1/jobs?limit=5")->get_header_value("ETag"),
+            client->Get("/api/v1/jobs?limit=6")->get_header_value("ETag"));
+
+  const std::string map = "/api/v1/phase-map?phi=0.4";
+  auto before = client->Get(map.c_str());
+  lease();  // a write: the job is running now
+  auto after = client->Get(map.c_str(), {{"If-None-Match", before->get_header_value("ETag")}});
+  ASSERT_EQ(after->status, 200);
+  EXPECT_NE(after->get_header_value("ETag"), before->get_header_value("ETag"));
+  EXPECT_EQ(json::parse(before->body)["points"][0]["state"], "queued");
+  EXPECT_EQ(json::parse(after->body)["points"][0]["state"], "running");
 }
