@@ -10,6 +10,8 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/install-browser-deps.sh        # Debian's chromium, node, playwright-core from npm
 export COMPACTION_REQUIRE_BROWSER=1    # a missing browser fails the browser tests, never skips
+scripts/install-promtool.sh            # promtool (Debian's prometheus) for metrics_test
+export COMPACTION_REQUIRE_PROMTOOL=1
 scripts/build.sh release
 if [ "${COMPACTION_TEST_ORDINARY:-0}" = 1 ]; then
   ctest --preset release -j "$(nproc)" --label-exclude '^(fresh|container|slurm)$'
