@@ -308,7 +308,7 @@ Walk walk(const State& st) {
 
 AdaptiveSpec parse_spec(const json& a, std::size_t max_points, const std::string& field) {
   if (!a.is_object()) invalid(field, "must be an object, got " + describe(a));
-  only_keys(a, field, {"S", "R", "initial", "resolution_decades", "budget"});
+  only_keys(a, field, {"S", "R", "initial", "resolution_decades", "budget", "in_flight"});
   AdaptiveSpec spec;
   spec.S = parse_axis(required(a, field, "S"), field + ".S", limits::S);
   spec.R = parse_axis(required(a, field, "R"), field + ".R", limits::R);
@@ -354,6 +354,15 @@ AdaptiveSpec parse_spec(const json& a, std::size_t max_points, const std::string
                           std::to_string(max_points) + " points", 413);
   }
   spec.budget = static_cast<std::size_t>(budget);
+  if (a.contains("in_flight")) {
+    const std::string f_in_flight = field + ".in_flight";
+    const long long n = integer_at_least(a["in_flight"], f_in_flight, 1);
+    if (n > budget) {
+      invalid(f_in_flight, "must be at most the budget (" + std::to_string(budget) + "), got " +
+                               std::to_string(n));
+    }
+    spec.in_flight = static_cast<std::size_t>(n);
+  }
   return spec;
 }
 

@@ -3,7 +3,8 @@
 // sweep's spec, its finished runs and its queued ones, and gets the points to queue next.
 //
 //   "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
-//                "initial": {"S": 5, "R": 5}, "resolution_decades": 0.125, "budget": 200}
+//                "initial": {"S": 5, "R": 5}, "resolution_decades": 0.125, "budget": 200,
+//                "in_flight": 8}
 //
 // The rule (docs/adaptive.md): the initial grid's cells form the roots of a quadtree in
 // (log10 S, log10 R). A cell whose four corners have results and whose boundary points disagree
@@ -43,6 +44,10 @@ inline constexpr double kWeightLowConfidence = 0.5;
 // [0, 1]); a gap of a quarter of the range is taken as a clear verdict.
 inline constexpr double kConfidentFrom = 0.25;
 
+// Points of a sweep queued or running at once when the request does not say ("in_flight"):
+// the cores of a workstation or two.
+inline constexpr std::size_t kDefaultInFlight = 8;
+
 struct AxisRange {
   double min = 0, max = 0;  // 0 < min < max < 1
 };
@@ -52,6 +57,9 @@ struct AdaptiveSpec {
   int initial_S = 0, initial_R = 0;  // initial grid: points per axis, log-spaced, ends included
   double resolution_decades = 0;  // the finest step wanted, in decades, on both axes
   std::size_t budget = 0;         // the most runs the sweep may hold, the initial grid included
+  // The most points queued or running at once, past the initial grid: the runs the workers
+  // can do in parallel. Fewer mean each new point is chosen knowing more results.
+  std::size_t in_flight = kDefaultInFlight;
 };
 
 // The spec from the request's "adaptive" object. Errors are ApiError naming the field under

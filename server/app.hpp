@@ -1,5 +1,5 @@
 // What the HTTP routes share: the store, the options, request counters, the answers clients
-// poll, the workers seen.
+// poll, the workers seen, the planning of adaptive sweeps.
 #pragma once
 
 #include <atomic>
@@ -7,11 +7,12 @@
 
 #include <httplib.h>
 
+#include "adaptive_sweeps.hpp"
 #include "answer_cache.hpp"
+#include "workers_seen.hpp"
 #include "store.hpp"
 #include "options.hpp"
 #include "planner.hpp"
-#include "workers_seen.hpp"
 
 namespace compaction::server {
 
@@ -28,6 +29,7 @@ struct App {
   RequestCounters requests;
   AnswerCache answers;
   WorkersSeen workers;
+  AdaptiveSweeps adaptive;
 };
 
 // One registration function per resource (routes_*.cpp).

@@ -6,8 +6,12 @@
 
 namespace compaction::server {
 
-LeaseRescuer::LeaseRescuer(QueueStore& queue, std::chrono::milliseconds interval)
-    : queue_(queue), interval_(interval), thread_([this] { run(); }) {}
+LeaseRescuer::LeaseRescuer(QueueStore& queue, std::chrono::milliseconds interval,
+                           std::function<void()> after_expiry)
+    : queue_(queue),
+      interval_(interval),
+      after_expiry_(std::move(after_expiry)),
+      thread_([this] { run(); }) {}
 
 LeaseRescuer::~LeaseRescuer() {
   {
@@ -23,7 +27,10 @@ void LeaseRescuer::run() {
   while (!wake_.wait_for(lock, interval_, [this] { return stop_; })) {
     try {
       const int n = queue_.requeue_expired(now_ms());
-      if (n > 0) spdlog::warn("lease rescuer: {} expired lease(s) returned to the queue", n);
+      if (n > 0) {
+        spdlog::warn("lease rescuer: {} expired lease(s) returned to the queue", n);
+        if (after_expiry_) after_expiry_();
+      }
     } catch (const std::exception& e) {
       spdlog::error("lease rescuer: {}", e.what());  // try again next interval
     }

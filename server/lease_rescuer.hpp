@@ -1,9 +1,12 @@
 // The lease rescuer: a thread that, every interval, returns the jobs whose lease deadline passed
-// (the worker died or lost the network) to the queue via QueueStore::requeue_expired.
+// (the worker died or lost the network) to the queue via QueueStore::requeue_expired, and then
+// calls `after_expiry` (a job out of attempts has failed for good, which an adaptive sweep
+// plans on).
 #pragma once
 
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -13,7 +16,8 @@ namespace compaction::server {
 
 class LeaseRescuer {
  public:
-  LeaseRescuer(QueueStore& queue, std::chrono::milliseconds interval);
+  LeaseRescuer(QueueStore& queue, std::chrono::milliseconds interval,
+               std::function<void()> after_expiry = {});
   ~LeaseRescuer();  // stops and joins the thread
   LeaseRescuer(const LeaseRescuer&) = delete;
   LeaseRescuer& operator=(const LeaseRescuer&) = delete;
@@ -23,6 +27,7 @@ class LeaseRescuer {
 
   QueueStore& queue_;
   std::chrono::milliseconds interval_;
+  std::function<void()> after_expiry_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     config.engine_version = compaction::engine_version();
     Store store(options->db, config);
 
-    App app{store, *options, {}, {}, {}, {}};
+    App app{store, *options, {}, {}, {}, {}, {}};
     app.limits.max_points = static_cast<std::size_t>(options->max_sweep_points);
     app.limits.max_bundle_bytes = static_cast<std::size_t>(options->max_upload_mb) << 20;
 
@@ -82,8 +82,11 @@ int main(int argc, char** argv) {
       std::filesystem::rename(tmp, options->port_file);
     }
 
-    LeaseRescuer rescuer(store.queue, std::chrono::milliseconds(
-                                    static_cast<long>(options->rescue_interval_seconds * 1000)));
+    // Adaptive sweeps whose last result was stored just before the server stopped plan on.
+    app.adaptive.advance_all(store, app.limits, now_ms());
+    LeaseRescuer rescuer(
+        store.queue, std::chrono::milliseconds(static_cast<long>(options->rescue_interval_seconds * 1000)),
+        [&app] { app.adaptive.advance_all(app.store, app.limits, now_ms()); });
     std::atomic<bool> signalled{false};
     std::thread signal_thread([&server, &signalled, signals] {
       int sig = 0;

@@ -25,7 +25,7 @@ const std::set<std::string> numerics_keys = {
     "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed"};
 
 const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",
-                                            "priority", "max_attempts"};
+                                            "priority", "max_attempts", "adaptive"};
 
 [[noreturn]] void invalid(const std::string& field, const std::string& message,
                           int status = 422) {
@@ -217,12 +217,25 @@ std::string job_identity(const SceneParams& p, const std::string& engine_version
   return engine_version + "|" + canonical_scene(p);
 }
 
+NewJob job_row(const SceneParams& p, const std::string& engine_version) {
+  return {job_identity(p, engine_version), canonical_scene(p), p.S, p.R, p.phi, p.eps_final(),
+          p.grid_cells_per_unit()};
+}
+
 NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version) {
   NewSweep out{plan.name, plan.request.dump(), plan.priority, plan.max_attempts, {}};
-  for (const SceneParams& p : plan.scenes) {
-    out.jobs.push_back({job_identity(p, engine_version), canonical_scene(p), p.S, p.R, p.phi,
-                        p.eps_final(), p.grid_cells_per_unit()});
-  }
+  for (const SceneParams& p : plan.scenes) out.jobs.push_back(job_row(p, engine_version));
+  return out;
+}
+
+std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
+                                         const std::vector<adaptive::Point>& points,
+                                         const PlannerLimits& limits) {
+  std::string preset;
+  const SceneParams base = base_scene(plan.request, preset);
+  const double phi = plan.scenes.empty() ? base.phi : plan.scenes.front().phi;
+  std::vector<SceneParams> out;
+  for (const adaptive::Point& pt : points) out.push_back(make_scene(base, pt.S, pt.R, phi, "", limits));
   return out;
 }
 
@@ -247,15 +260,33 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
   const SceneParams base = base_scene(body, plan.preset);
 
   const bool has_points = body.contains("points");
-  const bool has_grid = body.contains("S") || body.contains("R") || body.contains("phi");
-  if (has_points && has_grid) invalid("points", "give either points or a grid (S, R, phi), not both");
-  if (!has_points && !has_grid) invalid("points", "give points or a grid over S, R and phi");
-
   std::set<std::string> seen;
   auto add = [&](SceneParams p) {
     if (seen.insert(canonical_scene(p)).second) plan.scenes.push_back(std::move(p));
   };
 
+  if (body.contains("adaptive")) {
+    // A box of S and R at one phi, from which the sweep grows (adaptive_plan.hpp).
+    for (const char* key : {"points", "S", "R"}) {
+      if (body.contains(key)) {
+        invalid(key, "an adaptive sweep takes its S and R box inside \"adaptive\", not beside it");
+      }
+    }
+    if (!body.contains("phi")) invalid("phi", "is required: an adaptive sweep maps one phi");
+    const auto phi = expand_axis(body["phi"], "phi", limits.max_points);
+    if (phi.size() != 1) {
+      invalid("phi", "an adaptive sweep maps one phi, got " + std::to_string(phi.size()) + " values");
+    }
+    plan.adaptive = adaptive::parse_spec(body["adaptive"], limits.max_points);
+    for (const adaptive::Point& pt : adaptive::initial_points(*plan.adaptive)) {
+      add(make_scene(base, pt.S, pt.R, phi[0], "", limits));
+    }
+    return plan;
+  }
+
+  const bool has_grid = body.contains("S") || body.contains("R") || body.contains("phi");
+  if (has_points && has_grid) invalid("points", "give either points or a grid (S, R, phi), not both");
+  if (!has_points && !has_grid) invalid("points", "give points or a grid over S, R and phi");
   if (has_points) {
     const json& points = body["points"];
     if (!points.is_array()) invalid("points", "must be an array, got " + describe(points));

@@ -8,17 +8,24 @@
 //    "numerics": {"preset": "fast", "cells_per_unit": 8, "eps_end": 0.05, ...},
 //    "priority": 0, "max_attempts": 3}
 //
+// or an adaptive sweep over one phi, which starts from a grid and grows where labels differ
+// (adaptive_plan.hpp; adaptive_sweeps.hpp adds its points as results arrive):
+//    "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
+//                 "initial": {"S": 5, "R": 5}, "resolution_decades": 0.125, "budget": 200}
+//
 // Every scene goes through compaction::from_json (strict types, validate()'s ranges). Errors
 // name the field of the request ("points[2].phi", "S.min", "numerics.cfl") and are thrown as
 // ApiError: 422 for invalid values, 413 for a sweep above the size limit.
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "adaptive_plan.hpp"
 #include "compaction/params.hpp"
 #include "sweep_store.hpp"
 
@@ -41,8 +48,9 @@ struct SweepPlan {
   int priority = 0;       // higher runs first, in [-1000, 1000]
   int max_attempts = 3;   // runs of a job before it stays failed
   std::string preset;     // the resolution preset the numerics started from
-  std::vector<SceneParams> scenes;  // distinct, in request order
+  std::vector<SceneParams> scenes;  // distinct, in request order (an adaptive sweep's first grid)
   nlohmann::json request;           // the body as accepted
+  std::optional<adaptive::AdaptiveSpec> adaptive;  // set for an adaptive sweep
 };
 
 SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {});
@@ -50,6 +58,13 @@ SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {
 // The rows the sweep store writes for a plan, each job's identity made with the engine version
 // the new jobs are queued for.
 NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version);
+NewJob job_row(const SceneParams& p, const std::string& engine_version);
+
+// The scenes of further points of an adaptive sweep, from its stored request (its numerics and
+// phi), in the order given.
+std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
+                                         const std::vector<adaptive::Point>& points,
+                                         const PlannerLimits& limits = {});
 
 // Values of one grid axis: a number, an array of numbers, or {"min","max","n","scale"}.
 // Throws ApiError naming `field` (e.g. "S.n").

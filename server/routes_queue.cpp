@@ -97,6 +97,7 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   check_lease(app.store.queue.complete(id, token, r, now_ms()));
   spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
                r.cls.value_or("-"), r.artifacts.size());
+  app.adaptive.job_ended(app.store, app.limits, id, now_ms());
   send_json(res, 200, {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}});
 }
 
@@ -114,6 +115,7 @@ void fail(App& app, const httplib::Request& req, httplib::Response& res) {
   check_lease(out.check);
   spdlog::warn("job failed id={} retryable={} now={} reason=\"{}\"", id, retryable,
                to_string(out.state), log_escape(reason, 500));
+  if (out.state == JobState::failed) app.adaptive.job_ended(app.store, app.limits, id, now_ms());
   send_json(res, 200, {{"job_id", id}, {"state", to_string(out.state)}, {"run_after", out.run_after}});
 }
 

@@ -125,6 +125,30 @@ Page<SweepRecord> StoreReads::sweeps(int limit, int offset) {
   return page;
 }
 
+std::vector<std::int64_t> StoreReads::live_adaptive_sweeps() {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
+      "SELECT id FROM sweeps WHERE cancelled_at IS NULL"
+      " AND json_extract(request, '$.adaptive') IS NOT NULL ORDER BY id");
+  std::vector<std::int64_t> out;
+  while (s.step()) out.push_back(s.int64(0));
+  return out;
+}
+
+std::vector<std::int64_t> StoreReads::live_adaptive_sweeps_of_job(std::int64_t job_id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
+      "SELECT s.id FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id"
+      " WHERE sj.job_id = ? AND s.cancelled_at IS NULL"
+      " AND json_extract(s.request, '$.adaptive') IS NOT NULL ORDER BY s.id");
+  s.bind(1, job_id);
+  std::vector<std::int64_t> out;
+  while (s.step()) out.push_back(s.int64(0));
+  return out;
+}
+
 std::optional<std::vector<JobRecord>> StoreReads::sweep_jobs(std::int64_t id) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);

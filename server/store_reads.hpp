@@ -134,6 +134,10 @@ class StoreReads {
   Page<SweepRecord> sweeps(int limit, int offset);
   // Every job of the sweep with its result, in request order; nullopt: unknown sweep.
   std::optional<std::vector<JobRecord>> sweep_jobs(std::int64_t id);
+  // The adaptive sweeps (a request with "adaptive") not cancelled: all of them, or those that
+  // hold the job. In id order.
+  std::vector<std::int64_t> live_adaptive_sweeps();
+  std::vector<std::int64_t> live_adaptive_sweeps_of_job(std::int64_t job_id);
   Page<JobRecord> jobs(const JobFilter& filter);
   std::optional<JobDetail> job(std::int64_t id);
   std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id);

@@ -16,6 +16,15 @@ CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
       .run();
   out.id = db_.writer.last_insert_rowid();
 
+  link_jobs(out.id, 0, plan.jobs, plan.priority, plan.max_attempts, now, out);
+  tx.commit();
+  db_.wait_durable(lock);
+  return out;
+}
+
+void SweepStore::link_jobs(std::int64_t sweep_id, std::int64_t position,
+                           const std::vector<NewJob>& jobs, int priority, int max_attempts,
+                           Millis now, CreatedSweep& out) {
   auto insert = db_.writer.prepare(
       "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
       " priority, max_attempts, run_after, created_at)"
@@ -32,8 +41,7 @@ CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
   auto link = db_.writer.prepare(
       "INSERT OR IGNORE INTO sweep_jobs (sweep_id, job_id, position) VALUES (?, ?, ?)");
 
-  std::int64_t position = 0;
-  for (const NewJob& p : plan.jobs) {
+  for (const NewJob& p : jobs) {
     insert.reset();
     insert.bind(1, p.identity)
         .bind(2, p.scene)
@@ -43,8 +51,8 @@ CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
         .bind(6, p.phi)
         .bind(7, p.cells_per_unit)
         .bind(8, p.eps_end)
-        .bind(9, plan.priority)
-        .bind(10, plan.max_attempts)
+        .bind(9, priority)
+        .bind(10, max_attempts)
         .bind(11, now)
         .run();
     const bool created = db_.writer.changes() > 0;
@@ -60,19 +68,36 @@ CreatedSweep SweepStore::create(const NewSweep& plan, Millis now) {
       ++out.n_reused;
     } else if (state == "failed" || state == "cancelled") {
       requeue.reset();
-      requeue.bind(1, job_id).bind(2, plan.max_attempts).bind(3, now).bind(4, plan.priority).run();
+      requeue.bind(1, job_id).bind(2, max_attempts).bind(3, now).bind(4, priority).run();
       log_event(db_.writer, job_id, now, "queued", 0, std::nullopt,
-                "requeued by sweep " + std::to_string(out.id) + " (was " + state + ")");
+                "requeued by sweep " + std::to_string(sweep_id) + " (was " + state + ")");
       ++out.n_requeued;
     } else {
       raise.reset();
-      raise.bind(1, job_id).bind(2, plan.priority).run();
+      raise.bind(1, job_id).bind(2, priority).run();
       ++out.n_shared;
     }
     link.reset();
-    link.bind(1, out.id).bind(2, job_id).bind(3, position++).run();
+    link.bind(1, sweep_id).bind(2, job_id).bind(3, position++).run();
     ++out.n_jobs;
   }
+}
+
+std::optional<CreatedSweep> SweepStore::add_jobs(std::int64_t sweep_id,
+                                                 const std::vector<NewJob>& jobs, int priority,
+                                                 int max_attempts, Millis now) {
+  std::unique_lock lock(db_.write_mutex);
+  sqlite::Transaction tx(db_.writer);
+  if (!db_.writer.has_row("SELECT 1 FROM sweeps WHERE id = ?", sweep_id)) return std::nullopt;
+  auto next = db_.writer.prepare(
+      "SELECT coalesce(max(position) + 1, 0) FROM sweep_jobs WHERE sweep_id = ?");
+  next.bind(1, sweep_id);
+  next.step();
+  const std::int64_t position = next.int64(0);
+  next.reset();
+  CreatedSweep out;
+  out.id = sweep_id;
+  link_jobs(sweep_id, position, jobs, priority, max_attempts, now, out);
   tx.commit();
   db_.wait_durable(lock);
   return out;

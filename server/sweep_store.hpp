@@ -42,11 +42,21 @@ class SweepStore {
   explicit SweepStore(StoreDb& db) : db_(db) {}
 
   CreatedSweep create(const NewSweep& sweep, Millis now);
+  // Adds jobs to a sweep after those it has (an adaptive sweep's further points), each as
+  // create() does: new, reused, shared or queued again, with the priority and attempts given.
+  // nullopt for an unknown sweep.
+  std::optional<CreatedSweep> add_jobs(std::int64_t sweep_id, const std::vector<NewJob>& jobs,
+                                       int priority, int max_attempts, Millis now);
   // Cancels the sweep's queued and running jobs that no other live sweep contains; returns
   // how many, or nullopt for an unknown sweep. Cancelling twice is harmless.
   std::optional<std::int64_t> cancel(std::int64_t id, Millis now);
 
  private:
+  // Inserts or finds each job and links it to the sweep from `position` on; in the caller's
+  // transaction, under the writer lock.
+  void link_jobs(std::int64_t sweep_id, std::int64_t position, const std::vector<NewJob>& jobs,
+                 int priority, int max_attempts, Millis now, CreatedSweep& out);
+
   StoreDb& db_;
 };
 

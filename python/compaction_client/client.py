@@ -191,8 +191,8 @@ class Client:
         return self._json("GET", "/limits")
 
     # --- sweeps ---
-    # One submit method per body form that POST /sweeps takes (a grid, explicit points); a new
-    # form of the API (an adaptive sweep) gets its own method here once the server has it.
+    # One submit method per body form that POST /sweeps takes: a grid, explicit points, an
+    # adaptive sweep.
     def submit_grid(self, name, S, R, phi, preset=None, numerics=None, priority=None,
                     max_attempts=None):
         """Submits the grid S x R x phi. Each axis is a number, a list of numbers or
@@ -208,6 +208,22 @@ class Client:
         """Submits explicit points: each {"S", "R", "phi"} or a tuple (S, R, phi). The other
         arguments are those of submit_grid."""
         body = {"name": name, "points": [_point(i, p) for i, p in enumerate(points)]}
+        return self._submit(body, preset, numerics, priority, max_attempts)
+
+    def submit_adaptive(self, name, phi, S, R, initial=(5, 5), resolution_decades=0.125,
+                        budget=200, in_flight=None, preset=None, numerics=None, priority=None,
+                        max_attempts=None):
+        """Submits an adaptive sweep at one phi over the box S = (min, max), R = (min, max):
+        an initial log grid of initial = (points in S, points in R), refined where labels
+        differ down to resolution_decades, at most budget runs in all and in_flight queued or
+        running at once (None: the server's default). The other arguments are those of
+        submit_grid. The sweep's counts grow as the server adds points (docs/adaptive.md)."""
+        spec = {"S": {"min": S[0], "max": S[1]}, "R": {"min": R[0], "max": R[1]},
+                "initial": {"S": initial[0], "R": initial[1]},
+                "resolution_decades": resolution_decades, "budget": budget}
+        if in_flight is not None:
+            spec["in_flight"] = in_flight
+        body = {"name": name, "phi": phi, "adaptive": spec}
         return self._submit(body, preset, numerics, priority, max_attempts)
 
     def _submit(self, body, preset, numerics, priority, max_attempts):

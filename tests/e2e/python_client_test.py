@@ -235,6 +235,19 @@ check(sorted(s["id"] for s in client.sweeps()) == sorted([lone["id"], sweep["id"
 check(len(client.jobs(sweep=sweep)) == 2 and len(client.jobs(state="cancelled")) == 1
       and len(client.jobs(phi=0.4)) == 3, "jobs by sweep, state and phi")
 
+# --- an adaptive sweep: it grows by itself within its budget and wait() sees it end ---
+e = raises(lambda: client.submit_adaptive("map", 0.4, (0.02, 0.1), (1e-4, 1e-1), initial=(2, 2),
+                                          resolution_decades=0.25, budget=3), ApiError)
+check(e.status == 422 and e.field == "adaptive.budget", "a budget below the grid: %r" % e)
+grown = client.submit_adaptive("map", 0.4, (0.02, 0.1), (1e-4, 1e-1), initial=(2, 2),
+                               resolution_decades=0.25, budget=6, in_flight=2, preset="fast",
+                               numerics=TINY)
+check(grown["counts"]["total"] == 4 and grown["request"]["adaptive"]["budget"] == 6,
+      "the initial 2 x 2 grid: %s" % grown["counts"])
+finished = client.wait(grown, progress=False, timeout=120)
+check(4 <= finished["counts"]["total"] <= 6 and finished["state"] == "done",
+      "the adaptive sweep ended within its budget: %s" % finished["counts"])
+
 check(stop(worker, signal.SIGTERM) == 0, "the worker exits 0 on SIGTERM")
 check(stop(env.server, signal.SIGTERM) == 0, "the server exits 0 on SIGTERM")
 print("ok")

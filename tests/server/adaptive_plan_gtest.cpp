@@ -174,6 +174,10 @@ TEST(AdaptiveSpec, TheIssuesBodyParses) {
   EXPECT_EQ(s.initial_R, 5);
   EXPECT_EQ(s.resolution_decades, 0.125);
   EXPECT_EQ(s.budget, 200u);
+  EXPECT_EQ(s.in_flight, kDefaultInFlight) << "not in the body";
+  json b = issue_body();
+  b["in_flight"] = 32;
+  EXPECT_EQ(parse_spec(b, 2000).in_flight, 32u);
   const Steps steps = finest_steps(s);
   EXPECT_DOUBLE_EQ(steps.S, 0.125) << "0.5 decade halved twice";
   EXPECT_DOUBLE_EQ(steps.R, 0.125) << "1 decade halved three times";
@@ -215,6 +219,8 @@ TEST(AdaptiveSpec, ErrorsNameTheFieldAndTheValue) {
       {[](json& b) { b["budget"] = 24; }, 422, "adaptive.budget", "at least 25, got 24"},
       {[](json& b) { b["budget"] = 2001; }, 413, "adaptive.budget", "sweep limit of 2000"},
       {[](json& b) { b["budget"] = 200.5; }, 422, "adaptive.budget", "must be an integer"},
+      {[](json& b) { b["in_flight"] = 0; }, 422, "adaptive.in_flight", "at least 1, got 0"},
+      {[](json& b) { b["in_flight"] = 201; }, 422, "adaptive.in_flight", "at most the budget (200), got 201"},
   };
   for (const Case& c : cases) {
     json b = issue_body();

@@ -37,7 +37,7 @@ struct ApiTest : ::testing::Test {
     o.submit_token = submit;
     o.worker_token = worker;
     o.web_dir = "";
-    app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}});
+    app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}, {}});
     app->limits.max_points = 50;
     register_all_routes(server, *app);
     const int port = server.bind_to_any_port("127.0.0.1");

@@ -171,3 +171,40 @@ TEST(Planner, TheIdentityIgnoresThreadsButNotNumerics) {
   EXPECT_NE(job_identity(a, "v1"), job_identity(b, "v1"));
   EXPECT_NE(job_identity(a, "v1"), job_identity(a, "v2"));
 }
+
+TEST(Planner, AnAdaptiveSweepStartsWithItsInitialGridAtItsPhi) {
+  const json body = json::parse(R"({"name": "map", "phi": 0.4, "numerics": {"preset": "default"},
+      "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
+                   "initial": {"S": 5, "R": 5}, "resolution_decades": 0.125, "budget": 200}})");
+  const SweepPlan p = plan_sweep(body);
+  ASSERT_TRUE(p.adaptive);
+  EXPECT_EQ(p.adaptive->budget, 200u);
+  ASSERT_EQ(p.scenes.size(), 25u);
+  for (const auto& s : p.scenes) EXPECT_EQ(s.phi, 0.4);
+  EXPECT_EQ(p.scenes.front().S, 1e-3);
+  EXPECT_EQ(p.scenes.back().R, 1e-1);
+  // Further points get the sweep's numerics and phi.
+  const auto more = adaptive_scenes(p, {{0.02, 3e-4}});
+  ASSERT_EQ(more.size(), 1u);
+  EXPECT_EQ(more[0].phi, 0.4);
+  EXPECT_EQ(more[0].cells_per_strut, 4.5);
+  EXPECT_EQ(more[0].S, 0.02);
+}
+
+TEST(Planner, AnAdaptiveSweepNamesWhatItCannotTake) {
+  const json ok = json::parse(R"({"name": "map", "phi": 0.4, "adaptive": {"S": {"min": 1e-3,
+      "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1}, "initial": {"S": 3, "R": 3},
+      "resolution_decades": 0.25, "budget": 20}})");
+  json b = ok;
+  b["S"] = 0.01;
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("S")));
+  b = ok;
+  b["phi"] = json::array({0.3, 0.4});
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("phi")));
+  b = ok;
+  b.erase("phi");
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("phi")));
+  b = ok;
+  b["adaptive"]["budget"] = 5;
+  EXPECT_EQ(error_of(b), std::make_pair(422, std::string("adaptive.budget")));
+}

@@ -1,0 +1,106 @@
+#include "adaptive_sweeps.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "api_error.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+namespace {
+
+// The sweep's finished points (with their labels) and those still queued or running.
+void split_jobs(const std::vector<JobRecord>& jobs, std::vector<adaptive::Labelled>& done,
+                std::vector<adaptive::Point>& pending) {
+  for (const JobRecord& j : jobs) {
+    const adaptive::Point pt{j.S, j.R};
+    if (j.state == "queued" || j.state == "running") {
+      pending.push_back(pt);
+      continue;
+    }
+    adaptive::Labelled l{pt, std::nullopt, 0.0, std::nullopt};
+    if (j.state == "succeeded" && j.result) {
+      l.label = j.result->cls;  // none for an unstable or unclassified run
+      l.confidence = j.result->confidence.value_or(0.0);
+      l.runner_up = j.result->runner_up;
+    }
+    done.push_back(std::move(l));  // failed and cancelled runs are unknown labels
+  }
+}
+
+}  // namespace
+
+std::size_t AdaptiveSweeps::advance(Store& store, const PlannerLimits& limits,
+                                    std::int64_t sweep_id, Millis now) {
+  std::lock_guard lock(mutex_);
+  std::size_t added = 0;
+  try {
+    plan_more(store, limits, sweep_id, now, added);
+  } catch (const std::exception& e) {
+    // The result or the sweep that called is stored; planning resumes with the next result,
+    // the next lease expiry or the next start.
+    spdlog::error("adaptive sweep {}: planning stopped: {}", sweep_id, e.what());
+  }
+  return added;
+}
+
+void AdaptiveSweeps::plan_more(Store& store, const PlannerLimits& limits, std::int64_t sweep_id,
+                               Millis now, std::size_t& added) {
+  // Each round adds at least one point the sweep did not hold, and the budget bounds them.
+  while (true) {
+    const auto sweep = store.reads.sweep(sweep_id);
+    if (!sweep || sweep->cancelled_at) return;
+    const json request = json::parse(sweep->request);
+    if (!request.contains("adaptive")) return;
+    SweepPlan plan;
+    try {
+      plan = plan_sweep(request, limits);
+    } catch (const ApiError& e) {
+      // Accepted once, refused now: the server's limits changed since (e.g. --max-sweep-points).
+      spdlog::error("adaptive sweep {}: its request no longer plans ({}: {}); not advanced",
+                    sweep_id, e.field, e.what());
+      return;
+    }
+    const auto jobs = store.reads.sweep_jobs(sweep_id);
+    if (!jobs) return;
+    std::vector<adaptive::Labelled> done;
+    std::vector<adaptive::Point> pending;
+    split_jobs(*jobs, done, pending);
+    const std::size_t room =
+        plan.adaptive->in_flight > pending.size() ? plan.adaptive->in_flight - pending.size() : 0;
+    const auto points = adaptive::next_points(*plan.adaptive, done, pending, room);
+    if (points.empty()) {
+      if (pending.empty()) {
+        spdlog::info("adaptive sweep {} finished: {} runs of a budget of {}, boundaries {}",
+                     sweep_id, done.size(), plan.adaptive->budget,
+                     adaptive::resolved(*plan.adaptive, done) ? "resolved" : "not resolved");
+      }
+      return;
+    }
+    std::vector<NewJob> rows;
+    for (const SceneParams& p : adaptive_scenes(plan, points, limits)) {
+      rows.push_back(job_row(p, store.config().engine_version));
+    }
+    const auto c = store.sweeps.add_jobs(sweep_id, rows, plan.priority, plan.max_attempts, now);
+    if (!c) return;
+    added += static_cast<std::size_t>(c->n_jobs);
+    spdlog::info("adaptive sweep {}: {} points added ({} new, {} reused, {} shared, {} requeued), "
+                 "{} of a budget of {}", sweep_id, c->n_jobs, c->n_new, c->n_reused, c->n_shared,
+                 c->n_requeued, done.size() + pending.size() + rows.size(), plan.adaptive->budget);
+    if (c->n_reused == 0) return;  // every new point waits for its run
+  }
+}
+
+void AdaptiveSweeps::job_ended(Store& store, const PlannerLimits& limits, std::int64_t job_id,
+                               Millis now) {
+  for (std::int64_t id : store.reads.live_adaptive_sweeps_of_job(job_id)) {
+    advance(store, limits, id, now);
+  }
+}
+
+void AdaptiveSweeps::advance_all(Store& store, const PlannerLimits& limits, Millis now) {
+  for (std::int64_t id : store.reads.live_adaptive_sweeps()) advance(store, limits, id, now);
+}
+
+}  // namespace compaction::server

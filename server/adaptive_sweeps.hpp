@@ -1,0 +1,38 @@
+// Adaptive sweeps as the server runs them: when one is created, whenever one of its jobs ends,
+// and at start, the adaptive planner (adaptive_plan.hpp) is asked where to run next, and the
+// points it proposes join the sweep as jobs. The sweep's stored request is the one home of its
+// box, budget and numerics; its jobs' states and labels are what the planner reads.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+
+#include "clock.hpp"
+#include "planner.hpp"
+#include "store.hpp"
+
+namespace compaction::server {
+
+class AdaptiveSweeps {
+ public:
+  // Queues the next points of the sweep when it is adaptive and not cancelled: as many as its
+  // in_flight allows past those queued or running, never beyond its budget. Points whose result
+  // another sweep already has are known at once, so it plans again until it has to wait for a
+  // run. Returns the jobs added.
+  std::size_t advance(Store& store, const PlannerLimits& limits, std::int64_t sweep_id, Millis now);
+  // advance() for every live adaptive sweep that holds the job (it succeeded or failed for good).
+  void job_ended(Store& store, const PlannerLimits& limits, std::int64_t job_id, Millis now);
+  // advance() for every live adaptive sweep: at start (a result may have been stored just before
+  // the server stopped) and after leases expire (a job may have failed for good).
+  void advance_all(Store& store, const PlannerLimits& limits, Millis now);
+
+ private:
+  void plan_more(Store& store, const PlannerLimits& limits, std::int64_t sweep_id, Millis now,
+                 std::size_t& added);
+
+  // One planning at a time: two results arriving together must not both spend the budget.
+  std::mutex mutex_;
+};
+
+}  // namespace compaction::server

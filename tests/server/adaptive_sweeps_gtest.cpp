@@ -1,0 +1,182 @@
+// Adaptive sweeps through the real store (a SQLite file): the sweep starts with its initial
+// grid, grows where results disagree as jobs end, never holds more jobs than its budget, shares
+// results other sweeps have, waits for pending runs, and stops when cancelled. Results are
+// given labels from a known field (label a below R = 1e-3, b above) instead of simulations, so
+// that where the points must go is known.
+#include "adaptive_sweeps.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "temp_dir.hpp"
+#include "views.hpp"
+
+using namespace compaction::server;
+using nlohmann::json;
+
+namespace {
+
+constexpr Millis t0 = 1'000'000;
+
+StoreConfig config() {
+  StoreConfig c;
+  c.lease_ms = 10'000;
+  c.backoff_base_ms = 1'000;
+  c.engine_version = "test-1";
+  return c;
+}
+
+// The issue's body, at a tiny resolution of numerics (cheap scenes; nothing is run here).
+json adaptive_body(int budget, int in_flight = 8) {
+  return {{"name", "map"},
+          {"phi", 0.4},
+          {"numerics", {{"cells_per_unit", 6}, {"eps_end", 0.02}}},
+          {"adaptive",
+           {{"S", {{"min", 1e-3}, {"max", 1e-1}}},
+            {"R", {{"min", 1e-5}, {"max", 1e-1}}},
+            {"initial", {{"S", 5}, {"R", 5}}},
+            {"resolution_decades", 0.125},
+            {"budget", budget},
+            {"in_flight", in_flight}}}};
+}
+
+// The field the results are labelled from: a boundary at R = 1e-3, independent of S.
+std::string label_at(double R) { return std::log10(R) < -3.0 ? "a" : "b"; }
+
+struct AdaptiveSweepsTest : ::testing::Test {
+  TempDir dir;
+  Store store{dir.file("jobs.db"), config()};
+  PlannerLimits limits;
+  AdaptiveSweeps adaptive;
+  Millis now = t0;
+
+  std::int64_t create(const json& body) {
+    const SweepPlan plan = plan_sweep(body, limits);
+    const CreatedSweep c = store.sweeps.create(sweep_rows(plan, "test-1"), now);
+    adaptive.advance(store, limits, c.id, now);
+    return c.id;
+  }
+
+  // Leases one job, completes it with the field's label and lets the sweeps plan on. False
+  // when the queue is empty.
+  bool run_one() {
+    const auto lease = store.queue.lease("w", "test-1", ++now);
+    if (!lease) return false;
+    const json scene = json::parse(lease->scene);
+    ResultRecord r;
+    r.status = "ok";
+    r.scene = lease->scene;
+    r.engine_version = "test-1";
+    r.source_revision = "abc";
+    r.cls = label_at(scene["R"].get<double>());
+    r.confidence = 0.9;
+    r.runner_up = *r.cls == "a" ? "b" : "a";
+    r.summary = "{}";
+    EXPECT_EQ(store.queue.complete(lease->job_id, lease->token, r, ++now), LeaseCheck::ok);
+    adaptive.job_ended(store, limits, lease->job_id, now);
+    return true;
+  }
+
+  StateCounts counts(std::int64_t sweep) { return store.reads.sweep(sweep)->counts; }
+};
+
+}  // namespace
+
+TEST_F(AdaptiveSweepsTest, ASweepStartsWithItsInitialGridAndGrowsWhereLabelsDifferUpToItsBudget) {
+  const std::int64_t id = create(adaptive_body(60));
+  EXPECT_EQ(counts(id).total(), 25) << "the initial 5 x 5 grid, nothing known yet";
+  std::int64_t most = 0;
+  while (run_one()) {
+    const StateCounts c = counts(id);
+    EXPECT_LE(c.total(), 60) << "never beyond the budget";
+    EXPECT_LE(c.open(), 25) << "the initial grid, then at most in_flight queued";
+    most = std::max(most, c.total());
+  }
+  const StateCounts c = counts(id);
+  EXPECT_EQ(c.open(), 0);
+  EXPECT_GT(c.total(), 25) << "it grew";
+  EXPECT_LE(c.total(), 60);
+  // Every point added after the grid lies on the boundary's side of the map: within an initial
+  // cell (1 decade of R) of R = 1e-3, where the labels differ.
+  const auto jobs = *store.reads.sweep_jobs(id);
+  for (std::size_t i = 25; i < jobs.size(); ++i) {
+    EXPECT_LE(std::abs(std::log10(jobs[i].R) + 3.0), 1.0 + 1e-9) << "job " << jobs[i].id;
+  }
+}
+
+TEST_F(AdaptiveSweepsTest, TheBoundaryIsFoundToTheResolutionWithFewerRunsThanTheFullGrid) {
+  const std::int64_t id = create(adaptive_body(400));
+  while (run_one()) {
+  }
+  const auto jobs = *store.reads.sweep_jobs(id);
+  // The full grid at 1/8 decade over 2 x 4 decades: 17 x 33 = 561 points. A straight boundary
+  // across S needs a row of points on each side of it: 17 x 2 plus the initial grid and the
+  // cells that lead there, far fewer.
+  EXPECT_LT(jobs.size(), 561u / 3);
+  // Both sides of the boundary are sampled at the finest step: a point at R = 10^-3.125 (a) and
+  // one at 10^-3 (b) for every finest S.
+  int below = 0, at = 0;
+  for (const auto& j : jobs) {
+    if (std::abs(std::log10(j.R) + 3.125) < 1e-9) ++below;
+    if (std::abs(std::log10(j.R) + 3.0) < 1e-9) ++at;
+  }
+  EXPECT_EQ(below, 17);
+  EXPECT_EQ(at, 17);
+}
+
+TEST_F(AdaptiveSweepsTest, PointsOtherSweepsHaveResultsForAreKnownAtOnceAndPlannedPast) {
+  const std::int64_t first = create(adaptive_body(80));
+  while (run_one()) {
+  }
+  const std::int64_t n_first = counts(first).total();
+  // The same map again: every point the first sweep ran is reused, so the second plans past
+  // them without a single run, to the same points.
+  const std::int64_t second = create(adaptive_body(80));
+  EXPECT_EQ(counts(second).total(), n_first);
+  EXPECT_EQ(counts(second).open(), 0);
+  EXPECT_FALSE(run_one()) << "nothing to run";
+}
+
+TEST_F(AdaptiveSweepsTest, ACancelledSweepDoesNotGrow) {
+  const std::int64_t id = create(adaptive_body(200));
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(run_one());
+  ASSERT_TRUE(store.sweeps.cancel(id, ++now));
+  const std::int64_t total = counts(id).total();
+  EXPECT_EQ(adaptive.advance(store, limits, id, ++now), 0u);
+  EXPECT_EQ(counts(id).total(), total);
+}
+
+TEST_F(AdaptiveSweepsTest, AGridSweepIsNeverAdvanced) {
+  const SweepPlan plan = plan_sweep(
+      {{"name", "grid"}, {"S", {0.01, 0.1}}, {"R", {1e-5, 1e-1}}, {"phi", 0.4},
+       {"numerics", {{"cells_per_unit", 6}, {"eps_end", 0.02}}}},
+      limits);
+  const CreatedSweep c = store.sweeps.create(sweep_rows(plan, "test-1"), now);
+  while (run_one()) {
+  }
+  EXPECT_EQ(adaptive.advance(store, limits, c.id, ++now), 0u);
+  EXPECT_EQ(counts(c.id).total(), 4);
+}
+
+TEST_F(AdaptiveSweepsTest, AtStartEveryLiveAdaptiveSweepPlansOn) {
+  // Results stored without planning (the server stopped in between): the sweep would wait
+  // forever for results that will not come.
+  const SweepPlan plan = plan_sweep(adaptive_body(60), limits);
+  const CreatedSweep c = store.sweeps.create(sweep_rows(plan, "test-1"), now);
+  while (const auto lease = store.queue.lease("w", "test-1", ++now)) {
+    ResultRecord r;
+    r.status = "ok";
+    r.scene = lease->scene;
+    r.engine_version = "test-1";
+    r.source_revision = "abc";
+    r.cls = label_at(json::parse(lease->scene)["R"].get<double>());
+    r.confidence = 0.9;
+    r.summary = "{}";
+    ASSERT_EQ(store.queue.complete(lease->job_id, lease->token, r, ++now), LeaseCheck::ok);
+  }
+  ASSERT_EQ(counts(c.id).open(), 0);
+  adaptive.advance_all(store, limits, ++now);
+  EXPECT_GT(counts(c.id).open(), 0) << "new points queued";
+  EXPECT_LE(counts(c.id).open(), 8) << "at most in_flight";
+}
