@@ -3,7 +3,7 @@
 // The limits come from a real compaction-server (GET /api/v1/limits), as in the dashboard.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { validateSweep as validateWith, formFieldOf, coarsestCellsPerUnit } from '../../web/js/sweepform.js';
+import { validateSweep as validateWith, validateAdaptive as validateAdaptiveWith, formFieldOf, coarsestCellsPerUnit } from '../../web/js/sweepform.js';
 import { expandAxis, sweepPhis } from '../../web/js/sweepmath.js';
 import { Harness } from './lib/harness.mjs';
 
@@ -17,6 +17,7 @@ before(async () => {
 });
 after(() => harness.close());
 const validateSweep = (v) => validateWith(v, limits);
+const validateAdaptive = (v) => validateAdaptiveWith(v, limits);
 
 const base = { name: 'x', sMin: '1e-3', sMax: '1e-1', sN: '3', sScale: 'log', rMin: '1e-5', rMax: '1e-1', rN: '5', rScale: 'log', phi: '0.4', preset: 'fast', cpu: '', epsEnd: '', snapshots: '', priority: '0', attempts: '3' };
 
@@ -64,6 +65,71 @@ test('server error fields map onto the form', () => {
   assert.equal(formFieldOf('numerics.cells_per_strut'), 'cps');
   assert.equal(formFieldOf('numerics.eps_end'), 'eps-end');
   assert.equal(formFieldOf('bogus'), null);
+});
+
+// The adaptive form's fields: the same names, S and R points being the initial grid's.
+const adaptiveBase = { ...base, sN: '5', rN: '5', resolution: '0.125', budget: '200', inFlight: '' };
+
+test('a valid adaptive sweep counts its initial grid and builds the adaptive body', () => {
+  const r = validateAdaptive(adaptiveBase);
+  assert.equal(r.ok, true, JSON.stringify(r.errors));
+  assert.equal(r.count, 25);
+  assert.equal(r.budget, 200);
+  assert.deepEqual(r.body, {
+    name: 'x', phi: 0.4, numerics: { preset: 'fast' }, priority: 0, max_attempts: 3,
+    adaptive: { S: { min: 1e-3, max: 1e-1 }, R: { min: 1e-5, max: 1e-1 }, initial: { S: 5, R: 5 }, resolution_decades: 0.125, budget: 200 },
+  });
+  assert.equal(validateAdaptive({ ...adaptiveBase, inFlight: '4' }).body.adaptive.in_flight, 4);
+});
+
+test('empty resolution and budget take the form defaults of 0.125 decades and 200 runs', () => {
+  const r = validateAdaptive({ ...adaptiveBase, resolution: ' ', budget: '' });
+  assert.equal(r.ok, true, JSON.stringify(r.errors));
+  assert.equal(r.body.adaptive.resolution_decades, 0.125);
+  assert.equal(r.body.adaptive.budget, 200);
+});
+
+test('an adaptive sweep refuses a list of phi, an empty box and an initial axis of one point', () => {
+  assert.match(validateAdaptive({ ...adaptiveBase, phi: '0.3, 0.4' }).errors.phi, /one φ/);
+  assert.match(validateAdaptive({ ...adaptiveBase, phi: '0.9' }).errors.phi, /\[0.2, 0.8\]/);
+  assert.match(validateAdaptive({ ...adaptiveBase, sMin: '0.1', sMax: '0.1' }).errors['s-max'], /max must be > min/);
+  assert.match(validateAdaptive({ ...adaptiveBase, rMin: '0' }).errors['r-min'], /\(0, 1\)/);
+  assert.match(validateAdaptive({ ...adaptiveBase, sN: '1' }).errors['s-n'], /≥ 2/);
+  assert.ok(validateAdaptive({ ...adaptiveBase, rN: '2.5' }).errors['r-n']);
+  assert.match(validateAdaptive({ ...adaptiveBase, cpu: '4' }).errors.cpu, /too coarse for φ = 0.4/);
+});
+
+test('the budget holds the initial grid and stays within the server limit; resolution and in flight are checked', () => {
+  assert.match(validateAdaptive({ ...adaptiveBase, budget: '24' }).errors.budget, /initial grid's 25 runs/);
+  assert.equal(validateAdaptive({ ...adaptiveBase, budget: '25' }).ok, true);
+  const max = limits.sweep.max_points;
+  assert.match(validateAdaptive({ ...adaptiveBase, budget: String(max + 1) }).errors.budget, new RegExp(`to ${max}$`));
+  assert.ok(validateAdaptive({ ...adaptiveBase, budget: '30.5' }).errors.budget);
+  assert.ok(validateAdaptive({ ...adaptiveBase, resolution: '0' }).errors.res);
+  assert.ok(validateAdaptive({ ...adaptiveBase, resolution: 'fine' }).errors.res);
+  assert.ok(validateAdaptive({ ...adaptiveBase, inFlight: '0' }).errors['in-flight']);
+  assert.match(validateAdaptive({ ...adaptiveBase, budget: '30', inFlight: '31' }).errors['in-flight'], /1 to 30/);
+  assert.ok(validateAdaptive({ ...adaptiveBase, sN: String(max), rN: '2' }).errors.count);
+});
+
+test('the server\'s adaptive error fields map onto the form', () => {
+  assert.equal(formFieldOf('adaptive.S.min'), 's-min');
+  assert.equal(formFieldOf('adaptive.R.max'), 'r-max');
+  assert.equal(formFieldOf('adaptive.S'), 's-min');
+  assert.equal(formFieldOf('adaptive.initial.S'), 's-n');
+  assert.equal(formFieldOf('adaptive.initial.R'), 'r-n');
+  assert.equal(formFieldOf('adaptive.resolution_decades'), 'res');
+  assert.equal(formFieldOf('adaptive.budget'), 'budget');
+  assert.equal(formFieldOf('adaptive.in_flight'), 'in-flight');
+  assert.equal(formFieldOf('adaptive'), null);
+});
+
+test('the server refuses what the form leaves to it at the fields the form maps', async () => {
+  const ok = validateAdaptive({ ...adaptiveBase, resolution: '0.01' });
+  assert.equal(ok.ok, true, 'a resolution finer than 1/64 decade is the server\'s to refuse');
+  const r = await harness.api('/sweeps', ok.body);
+  assert.equal(r.status, 422, JSON.stringify(r.json));
+  assert.equal(formFieldOf(r.json.error.field), 'res');
 });
 
 test('grids match the planner: log spacing, ends exact, 12 significant digits', () => {

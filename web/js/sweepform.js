@@ -31,23 +31,25 @@ function axis(v, key, name, range, maxPoints, errors) {
   return { min: lo, max: hi, n, scale };
 }
 
-// values: strings of the form fields; limits: the server's GET /api/v1/limits.
-// Returns {errors: {fieldId: message}, body, count, dims}.
-export function validateSweep(v, limits) {
-  const { sweep, scene } = limits;
-  const errors = {};
+// The parts both kinds of sweep share: name, phi values, numerics over the preset, priority and
+// attempts. Each writes its errors under the form's field ids.
+function sweepName(v, sweep, errors) {
   const name = (v.name || '').trim();
   if (!name) errors.name = 'give the sweep a name';
   else if (new TextEncoder().encode(name).length > sweep.name_max_bytes) errors.name = `at most ${sweep.name_max_bytes} bytes`;
-  const S = axis(v, 's', 'S', scene.S, sweep.max_points, errors);
-  const R = axis(v, 'r', 'R', scene.R, sweep.max_points, errors);
-  const phiText = (v.phi || '').trim();
-  const phis = phiText.split(/[\s,;]+/).filter(Boolean).map(Number);
+  return name;
+}
+
+function phiValues(v, scene, errors) {
+  const phis = (v.phi || '').trim().split(/[\s,;]+/).filter(Boolean).map(Number);
   if (!phis.length) errors.phi = 'one or more values, e.g. 0.4 or 0.3, 0.4';
   else if (phis.some((p) => !Number.isFinite(p))) errors.phi = 'numbers separated by commas';
   else if (phis.some((p) => !inside(scene.phi, p))) errors.phi = `φ must be in ${show(scene.phi)} (the model is meant for 0.25 to 0.75)`;
   else if (new Set(phis).size !== phis.length) errors.phi = 'a value is listed twice';
+  return phis;
+}
 
+function numericsOf(v, scene, phis, errors) {
   const numerics = { preset: v.preset || 'default' };
   if ((v.cps || '').trim() !== '') {
     // Whether the grid it gives fits at each phi is the server's to say (it names the field).
@@ -76,11 +78,35 @@ export function validateSweep(v, limits) {
     else if (s.length > scene.max_snapshots) errors.snapshots = `at most ${scene.max_snapshots} snapshots`;
     else numerics.snapshot_eps = s;
   }
+  return numerics;
+}
+
+// An empty field takes `dflt`; otherwise a whole number in [lo, hi].
+function wholeIn(text, dflt, lo, hi, id, errors) {
+  const n = (text || '').trim() === '' ? dflt : num(text);
+  if (!isInt(n) || n < lo || n > hi) errors[id] = `a whole number from ${lo} to ${hi}`;
+  return n;
+}
+
+function queueOf(v, sweep, errors) {
   const pr = sweep.priority, at = sweep.max_attempts;
-  const priority = (v.priority || '').trim() === '' ? pr.default : num(v.priority);
-  if (!isInt(priority) || priority < pr.lo || priority > pr.hi) errors.priority = `a whole number from ${pr.lo} to ${pr.hi}`;
-  const attempts = (v.attempts || '').trim() === '' ? at.default : num(v.attempts);
-  if (!isInt(attempts) || attempts < at.lo || attempts > at.hi) errors.attempts = `a whole number from ${at.lo} to ${at.hi}`;
+  return {
+    priority: wholeIn(v.priority, pr.default, pr.lo, pr.hi, 'priority', errors),
+    max_attempts: wholeIn(v.attempts, at.default, at.lo, at.hi, 'attempts', errors),
+  };
+}
+
+// values: strings of the form fields; limits: the server's GET /api/v1/limits.
+// Returns {errors: {fieldId: message}, body, count, dims}.
+export function validateSweep(v, limits) {
+  const { sweep, scene } = limits;
+  const errors = {};
+  const name = sweepName(v, sweep, errors);
+  const S = axis(v, 's', 'S', scene.S, sweep.max_points, errors);
+  const R = axis(v, 'r', 'R', scene.R, sweep.max_points, errors);
+  const phis = phiValues(v, scene, errors);
+  const numerics = numericsOf(v, scene, phis, errors);
+  const queue = queueOf(v, sweep, errors);
 
   const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
   const nPhi = errors.phi ? 0 : phis.length;
@@ -92,15 +118,78 @@ export function validateSweep(v, limits) {
     R: { min: R.min, max: R.max, n: R.n, scale: R.scale },
     phi: phis.length === 1 ? phis[0] : phis,
     numerics,
-    priority,
-    max_attempts: attempts,
+    ...queue,
   };
   return { errors, body, count, dims: [nS, nR, nPhi], ok: Object.keys(errors).length === 0 };
 }
 
-// Where a server error's field ("S.min", "phi[1]", "numerics.eps_end", ...) goes in the form.
+// The form's defaults of an adaptive sweep (docs/adaptive.md): an eighth of a decade is the
+// finest step of the example there, and 200 runs its budget, where a straight boundary across
+// the default box took 92 and three regions meeting 134.
+export const ADAPTIVE_DEFAULTS = { resolutionDecades: 0.125, budget: 200 };
+
+// An axis of the adaptive box: min < max inside the scene's range (the box is planned on log10),
+// and the initial grid's points on it, both ends included.
+function box(v, key, name, range, errors) {
+  const lo = num(v[`${key}Min`]), hi = num(v[`${key}Max`]), n = num(v[`${key}N`]);
+  const f = (s) => `${key}-${s}`;
+  if (!Number.isFinite(lo)) errors[f('min')] = `${name} min must be a number`;
+  else if (!inside(range, lo)) errors[f('min')] = `${name} must be in ${show(range)}, got ${lo}`;
+  if (!Number.isFinite(hi)) errors[f('max')] = `${name} max must be a number`;
+  else if (!inside(range, hi)) errors[f('max')] = `${name} must be in ${show(range)}, got ${hi}`;
+  else if (Number.isFinite(lo) && !(lo < hi)) errors[f('max')] = `max must be > min (${lo})`;
+  if (!isInt(n) || n < 2) errors[f('n')] = 'a whole number ≥ 2 (both ends of the box)';
+  return { min: lo, max: hi, n };
+}
+
+// An adaptive sweep at one phi: the box and initial grid in S and R, the finest step, the budget
+// and the points open at once. The same values as validateSweep besides; the server checks the
+// rest (the resolution between 1/64 decade and the initial step) and names the field.
+// Returns {errors, body, count (the initial grid), budget, dims, ok}.
+export function validateAdaptive(v, limits) {
+  const { sweep, scene } = limits;
+  const errors = {};
+  const name = sweepName(v, sweep, errors);
+  const S = box(v, 's', 'S', scene.S, errors);
+  const R = box(v, 'r', 'R', scene.R, errors);
+  const phis = phiValues(v, scene, errors);
+  if (!errors.phi && phis.length > 1) errors.phi = `an adaptive sweep maps one φ, got ${phis.length}`;
+  const numerics = numericsOf(v, scene, phis, errors);
+  const queue = queueOf(v, sweep, errors);
+
+  const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
+  const count = nS * nR;
+  if (count > sweep.max_points) errors.count = `an initial grid of ${count} jobs exceeds the server's limit of ${sweep.max_points} per sweep`;
+
+  const res = (v.resolution || '').trim() === '' ? ADAPTIVE_DEFAULTS.resolutionDecades : num(v.resolution);
+  if (!Number.isFinite(res) || !(res > 0)) errors.res = 'a number of decades > 0, e.g. 0.125';
+  const budgetFloor = Math.max(count, 1);
+  const budget = wholeIn(v.budget, Math.min(ADAPTIVE_DEFAULTS.budget, sweep.max_points), budgetFloor, sweep.max_points, 'budget', errors);
+  if (errors.budget && isInt(budget) && budget < count) errors.budget = `at least the initial grid's ${count} runs`;
+  const adaptive = {
+    S: { min: S.min, max: S.max },
+    R: { min: R.min, max: R.max },
+    initial: { S: S.n, R: R.n },
+    resolution_decades: res,
+    budget,
+  };
+  if ((v.inFlight || '').trim() !== '') {
+    const hi = isInt(budget) && !errors.budget ? budget : sweep.max_points;
+    adaptive.in_flight = wholeIn(v.inFlight, 0, 1, hi, 'in-flight', errors);
+  }
+  const body = { name, phi: phis[0], numerics, ...queue, adaptive };
+  return { errors, body, count, budget, dims: [nS, nR, errors.phi ? 0 : 1], ok: Object.keys(errors).length === 0 };
+}
+
+// Where a server error's field ("S.min", "adaptive.budget", "phi[1]", "numerics.eps_end", ...) goes in the form.
 export function formFieldOf(serverField) {
   const f = serverField || '';
+  const a = /^adaptive\.(?:(S|R)(?:\.(min|max))?|initial\.(S|R)|(resolution_decades|budget|in_flight))/.exec(f);
+  if (a) {
+    if (a[1]) return `${a[1].toLowerCase()}-${a[2] || 'min'}`;
+    if (a[3]) return `${a[3].toLowerCase()}-n`;
+    return { resolution_decades: 'res', budget: 'budget', in_flight: 'in-flight' }[a[4]];
+  }
   const m = /^(S|R)(?:\.(min|max|n|scale))?/.exec(f);
   if (m) return `${m[1].toLowerCase()}-${m[2] === 'scale' ? 'scale' : m[2] || 'min'}`;
   if (/^phi/.test(f) || /^points.*phi/.test(f)) return 'phi';

@@ -1,14 +1,18 @@
-// Sweeps: a form for a grid sweep over (S, R, phi) with the job count shown before submitting and
-// validation next to each field, and the list of sweeps with progress, cancel and export.
+// Sweeps: a form for a grid sweep over (S, R, phi) or an adaptive sweep over a box in S and R at
+// one phi, with the job count shown before submitting and validation next to each field, and the
+// list of sweeps with progress (against the budget of an adaptive one), cancel and export.
 import { api, submitToken, setSubmitToken } from '../api.js';
-import { validateSweep, formFieldOf } from '../sweepform.js';
+import { validateSweep, validateAdaptive, formFieldOf, ADAPTIVE_DEFAULTS } from '../sweepform.js';
 import { sweepPhis } from '../sweepmath.js';
 import { when, escapeHtml } from '../format.js';
 
 const POLL_MS = 2500;
-const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
+const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
 
-// The form (each field with its hint and error line) and the card of the list.
+// The form (each field with its hint and error line) and the card of the list. The form's
+// data-mode ("grid" or "adaptive") shows the .grid-only or the .adaptive-only parts
+// (css/dashboard.css); S and R keep their fields in both modes, their points being the initial
+// grid's in adaptive mode.
 function pageHtml() {
   const field = (id, labelHtml, input, hint = '') => `
     <div class="f" data-field="${id}">
@@ -18,27 +22,41 @@ function pageHtml() {
     </div>`;
   const numIn = (id, value, extra = '') => `<input id="f-${id}" name="${id}" type="text" inputmode="decimal" value="${value}" autocomplete="off" ${extra}>`;
   const scaleIn = (id) => `<select id="f-${id}" name="${id}"><option value="log" selected>log</option><option value="linear">linear</option></select>`;
+  const byMode = (grid, adaptive) => `<span class="grid-only">${grid}</span><span class="adaptive-only">${adaptive}</span>`;
+  const points = byMode('points', 'initial points');
+  const mode = (value, label, hint, checked) => `<label class="mode-option"><input type="radio" name="mode" value="${value}" id="f-mode-${value}" ${checked ? 'checked' : ''}><span><b>${label}</b> <span class="muted">${hint}</span></span></label>`;
   return `
     <div class="page-head">
       <h1>Sweeps</h1>
       <p class="sub">A sweep is a grid over the Mach number <i>S</i>, the relative strength <i>R</i> and the solid fraction φ.
-        Each point becomes one job; a point already computed with the same numerics is reused, not run again.</p>
+        Each point becomes one job; a point already computed with the same numerics is reused, not run again.
+        An adaptive sweep starts with a coarse grid over a box in <i>S</i> and <i>R</i> at one φ, and the server adds points where neighbouring results disagree, up to its budget.</p>
     </div>
     <div class="layout-sweeps">
       <section class="card form-card">
-        <h2>New grid sweep</h2>
-        <form id="sweep-form" novalidate>
+        <h2>New sweep</h2>
+        <form id="sweep-form" data-mode="grid" novalidate>
+          <div class="mode-choice" role="radiogroup" aria-label="kind of sweep">
+            ${mode('grid', 'grid', 'every point of S × R × φ', true)}${mode('adaptive', 'adaptive', 'refines a box where the classes change', false)}
+          </div>
           ${field('name', 'Name', '<input id="f-name" name="name" type="text" placeholder="e.g. phi 0.4 coarse map" autocomplete="off">')}
           <fieldset><legend>Mach number <i>S</i> = <i>V</i>/√(<i>E</i>/ρ) <span class="unit">in (0, 1)</span></legend>
-            <div class="row4">${field('s-min', 'min', numIn('s-min', '1e-3'))}${field('s-max', 'max', numIn('s-max', '1e-1'))}${field('s-n', 'points', numIn('s-n', '5'))}${field('s-scale', 'spacing', scaleIn('s-scale'))}</div>
+            <div class="row4">${field('s-min', 'min', numIn('s-min', '1e-3'))}${field('s-max', 'max', numIn('s-max', '1e-1'))}${field('s-n', points, numIn('s-n', '5'))}<div class="grid-only">${field('s-scale', 'spacing', scaleIn('s-scale'))}</div></div>
           </fieldset>
           <fieldset><legend>Relative strength <i>R</i> = <i>q</i><sub>y</sub>/<i>E</i> <span class="unit">in (0, 1)</span></legend>
-            <div class="row4">${field('r-min', 'min', numIn('r-min', '1e-5'))}${field('r-max', 'max', numIn('r-max', '1e-1'))}${field('r-n', 'points', numIn('r-n', '5'))}${field('r-scale', 'spacing', scaleIn('r-scale'))}</div>
+            <div class="row4">${field('r-min', 'min', numIn('r-min', '1e-5'))}${field('r-max', 'max', numIn('r-max', '1e-1'))}${field('r-n', points, numIn('r-n', '5'))}<div class="grid-only">${field('r-scale', 'spacing', scaleIn('r-scale'))}</div></div>
           </fieldset>
           <div class="row2">
-            ${field('phi', 'Solid fraction φ', numIn('phi', '0.4'), 'one value or a list: 0.3, 0.4, 0.5')}
+            ${field('phi', 'Solid fraction φ', numIn('phi', '0.4'), byMode('one value or a list: 0.3, 0.4, 0.5', 'one value'))}
             ${field('preset', 'Numerics preset', '<select id="f-preset" name="preset"><option value="fast">fast</option><option value="default" selected>default</option><option value="reference">reference</option></select>', '<span id="preset-note"></span>')}
           </div>
+          <fieldset class="adaptive-only"><legend>Refinement <span class="unit">on log S and log R</span></legend>
+            <div class="row3">
+              ${field('res', 'resolution <span class="unit">decades</span>', numIn('res', String(ADAPTIVE_DEFAULTS.resolutionDecades)), 'the finest step wanted')}
+              ${field('budget', 'budget <span class="unit">runs</span>', numIn('budget', String(ADAPTIVE_DEFAULTS.budget)), 'at most, the initial grid included')}
+              ${field('in-flight', 'in flight', numIn('in-flight', '', 'placeholder="server default"'), 'points open at once past the initial grid')}
+            </div>
+          </fieldset>
           <details class="advanced"><summary>Numerics over the preset, priority</summary>
             <div class="row2">
               ${field('cps', 'cells across a strut', numIn('cps', '', 'placeholder="preset"'), 'the same resolution at every φ')}
@@ -82,7 +100,7 @@ export function mount(root) {
   const values = () => ({
     name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
     rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
-    phi: $('f-phi').value, preset: $('f-preset').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
+    phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
     snapshots: $('f-snapshots').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
   });
 
@@ -100,20 +118,28 @@ export function mount(root) {
 
   // The server's rules of a sweep (GET /api/v1/limits), loaded once with the page.
   let limits = null;
+  const mode = () => (form.elements.mode.value === 'adaptive' ? 'adaptive' : 'grid');
 
   function update() {
     if (!limits) {
       $('job-count').innerHTML = '<span class="muted">loading the server\'s limits…</span>';
       return { ok: false, errors: {}, dims: [0, 0, 0], count: 0 };
     }
-    const r = validateSweep(values(), limits);
+    const adaptive = mode() === 'adaptive';
+    form.dataset.mode = mode();
+    const r = (adaptive ? validateAdaptive : validateSweep)(values(), limits);
     showErrors(r.errors, submitted);
     const [a, b, c] = r.dims;
     const cnt = $('job-count');
     cnt.dataset.count = String(r.count);
-    cnt.innerHTML = r.count > 0
-      ? `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'} <span class="muted">= ${a} S × ${b} R × ${c} φ</span>${r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : ''}`
-      : '<span class="muted">fix the ranges to see the number of jobs</span>';
+    const jobs = `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'}`;
+    const countError = r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : '';
+    if (r.count <= 0) cnt.innerHTML = '<span class="muted">fix the ranges to see the number of jobs</span>';
+    else if (!adaptive) cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ</span>${countError}`;
+    else {
+      const most = r.errors.budget ? '' : `, at most ${r.budget.toLocaleString()}`;
+      cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R</div>${countError}`;
+    }
     return r;
   }
 
@@ -141,7 +167,8 @@ export function mount(root) {
       const sweep = await api.createSweep(r.body);
       const phi = sweepPhis(sweep.request)[0];
       msg.className = 'form-message ok';
-      msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed). <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
+      const budget = sweep.request.adaptive?.budget;
+      msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed)${budget ? `; the server adds points up to ${budget} as results arrive` : ''}. <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
       submitted = false;
       touched.clear();
       refresh();
@@ -249,11 +276,15 @@ function sweepRowHtml(s) {
   const c = s.counts;
   const phi = sweepPhis(s.request)[0] ?? 0.4;
   const rq = s.request;
-  const grid = rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${sweepPhis(rq).length} φ`;
+  const ad = rq.adaptive;
+  const grid = ad ? `adaptive from ${ad.initial.S} S × ${ad.initial.R} R<div class="muted">step ${ad.resolution_decades} decades</div>`
+    : rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${sweepPhis(rq).length} φ`;
+  // An adaptive sweep's total grows as the server adds points, up to its budget.
+  const of = ad ? `<span class="budget" data-budget="${ad.budget}">${c.total} of at most ${ad.budget} runs</span>` : `of ${c.total}`;
   return `<tr data-sweep="${s.id}" class="sw-${s.state}">
     <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}</div></td>
     <td class="small">${grid}<div class="muted">φ = ${sweepPhis(rq).join(', ')}</div></td>
-    <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''} of ${c.total}</div></td>
+    <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
     <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
       ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
 }
