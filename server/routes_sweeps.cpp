@@ -60,6 +60,8 @@ void register_sweep_routes(httplib::Server& server, App& app) {
     const SweepPlan plan = plan_sweep(body, app.limits);
     const CreatedSweep c =
         app.store.sweeps.create(sweep_rows(plan, app.store.config().engine_version), now_ms());
+    // Points whose results other sweeps have are labelled already: plan past them.
+    if (plan.adaptive) app.adaptive.advance(app.store, app.limits, c.id, now_ms());
     spdlog::info("sweep created id={} name=\"{}\" jobs={} new={} reused={} shared={} requeued={}",
                  c.id, log_escape(plan.name), c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
     const json out = views::created_sweep(*app.store.reads.sweep(c.id), c, plan.preset);
