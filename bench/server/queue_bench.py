@@ -1,0 +1,335 @@
+#!/usr/bin/env python3
+"""How many workers and dashboard readers compaction-server holds, measured on real HTTP on
+loopback with fake workers, for one or two server binaries in the same run:
+
+  cycles     lease + complete cycles per second with 1, 4, 16 and 32 fake workers. A fake worker
+             is an HTTP client that leases a job (POST /leases), then uploads a minimal valid
+             bundle at once (POST /jobs/{id}/complete: the summary of the leased scene with a
+             classification, and one 200-byte frames.csv): the same endpoints, checks, artifact
+             files and transactions as a real worker's, without the simulation. Median of 3
+             rounds of 3 s each.
+  readers    200 dashboard readers at once, each one GET /phase-map of a 2 000-job sweep (every
+             job succeeded): median and 90th percentile of their waits and the answer's size;
+             then the same 200 polling again with the ETag of their first answer
+             (If-None-Match) while nothing changed
+  map        GET /phase-map of 10 000 succeeded jobs at one phi (30 000 jobs in the database),
+             one client, each GET after a change of the database (a heartbeat): median of 20
+
+usage: bench/server/queue_bench.py --bin build/bin [--baseline OLD_BIN_DIR] [--out FILE]
+                                   [--bin-rev REV] [--baseline-rev REV]
+Writes a Markdown table (default bench/results/queue_bench.md) with the command that made it and
+the machine's load average (the cores may be shared). Standard library only.
+"""
+import argparse
+import http.client
+import json
+import multiprocessing
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from http_bench import REPO, Server, revision_of  # noqa: E402
+
+CLIENTS = [1, 4, 16, 32]
+ROUNDS, ROUND_SECONDS = 3, 3.0
+READERS = 200
+MAP_SWEEPS = 5         # 5 sweeps of 2 000 jobs at phi 0.4: the 10 000-job map
+OTHER_SWEEPS = 10      # 20 000 jobs at other phis beside it in the database
+PROCESSES = 4          # the clients run as threads of this many processes (fewer GIL waits)
+FRAMES_CSV = b"eps,stress\n" + b"".join(b"%.3f,%.6f\n" % (i / 100, i * 1e-4) for i in range(15))
+
+
+def sweep_body(name, k, phi, priority=0):
+    """2 000 distinct scenes: a 50 x 40 grid of S and R, shifted by k."""
+    return {"name": name, "priority": priority, "phi": [phi],
+            "S": {"min": 0.001 + 1e-4 * k, "max": 0.09 + 1e-4 * k, "n": 50, "scale": "linear"},
+            "R": {"min": 1e-5, "max": 1e-1, "n": 40, "scale": "log"},
+            "numerics": {"preset": "fast"}}
+
+
+def create(server, body):
+    status, answer = server.call("POST", "/api/v1/sweeps", body, timeout=120)
+    if status != 201:
+        raise RuntimeError("sweep creation -> %d %s" % (status, answer[:300]))
+    return json.loads(answer)["id"]
+
+
+def multipart(lease, engine):
+    scene = lease["scene"]
+    summary = {"status": "ok", "params": scene, "engine_version": engine,
+               "source_revision": "queue-bench", "eps_reached": scene["eps_end"],
+               "wall_seconds": 0.01,
+               "classification": {"class": "a", "confidence": 0.9, "runner_up": "b",
+                                  "n_reflections": 2, "band_speed_ratio": 1.7,
+                                  "features": {"band_speed_ratio": 1.7, "band_speed_error": 0.01}}}
+    parts = [(b"lease_token", None, lease["lease_token"].encode()),
+             (b"summary", b"summary.json", json.dumps(summary).encode()),
+             (b"files", b"frames.csv", FRAMES_CSV)]
+    out = []
+    for name, filename, content in parts:
+        disp = b'form-data; name="' + name + b'"' + (b'; filename="' + filename + b'"' if filename else b"")
+        out += [b"--benchboundary\r\nContent-Disposition: " + disp + b"\r\n\r\n", content, b"\r\n"]
+    out.append(b"--benchboundary--\r\n")
+    return b"".join(out)
+
+
+def post(port, path, body, content_type, resets):
+    """One request on a connection of its own, as compaction-worker sends it; a connection the
+    server reset is counted and the request sent again (the worker retries an unreachable
+    server too)."""
+    while True:
+        c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+        try:
+            c.request("POST", path, body=body, headers={"Content-Type": content_type})
+            r = c.getresponse()
+            return r.status, r.read()
+        except (ConnectionError, http.client.RemoteDisconnected):
+            resets[0] += 1
+            time.sleep(0.01)
+        finally:
+            c.close()
+
+
+def worker_thread(port, engine, name, start, end, out):
+    """Lease + complete until `end`; counts the cycles that finished within [start, end]."""
+    lease_body = json.dumps({"worker": name, "engine_version": engine})
+    done, times, idle, resets = 0, [], 0, [0]
+    while time.time() < end:
+        t0 = time.time()
+        status, body = post(port, "/api/v1/leases", lease_body, "application/json", resets)
+        if status == 204:
+            idle += 1
+            time.sleep(0.01)
+            continue
+        if status != 200:
+            raise RuntimeError("lease -> %d %s" % (status, body[:200]))
+        lease = json.loads(body)
+        before = resets[0]
+        status, body = post(port, "/api/v1/jobs/%d/complete" % lease["job_id"], multipart(lease, engine),
+                            "multipart/form-data; boundary=benchboundary", resets)
+        if status != 200 and not (status == 409 and resets[0] > before):  # 409: the first try went in
+            raise RuntimeError("complete -> %d %s" % (status, body[:200]))
+        t1 = time.time()
+        if start <= t0 and t1 <= end:
+            done += 1
+            times.append(t1 - t0)
+    out.append((done, times, idle, resets[0]))
+
+
+def reader_thread(port, path, etag, barrier, out):
+    """One GET; a reset or a timeout (60 s) is kept as a failure with the time it took."""
+    barrier.wait()
+    t0 = time.perf_counter()
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    try:
+        c.request("GET", path, headers={"If-None-Match": etag} if etag else {})
+        r = c.getresponse()
+        body = r.read()
+        out.append((time.perf_counter() - t0, r.status, len(body), r.getheader("ETag")))
+    except (OSError, http.client.HTTPException) as e:
+        out.append((time.perf_counter() - t0, type(e).__name__, 0, None))
+    finally:
+        c.close()
+
+
+def process_main(kind, args, n_threads, index, queue):
+    out, threads = [], []
+    if kind == "worker":
+        port, engine, start, end = args
+        for i in range(n_threads):
+            threads.append(threading.Thread(target=worker_thread, args=(
+                port, engine, "bench-%d-%d" % (index, i), start, end, out)))
+    else:
+        port, path, etag, at = args
+        barrier = threading.Barrier(n_threads, timeout=60)
+        for _ in range(n_threads):
+            threads.append(threading.Thread(target=reader_thread,
+                                            args=(port, path, etag, barrier, out)))
+        time.sleep(max(0.0, at - time.time()))
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    queue.put(out)
+
+
+def run_clients(kind, n, args):
+    """n client threads spread over up to PROCESSES processes; the results of all threads."""
+    queue = multiprocessing.Queue()
+    procs = []
+    n_procs = min(n, PROCESSES)
+    for p in range(n_procs):
+        share = n // n_procs + (1 if p < n % n_procs else 0)
+        procs.append(multiprocessing.Process(target=process_main, args=(kind, args, share, p, queue)))
+    for p in procs:
+        p.start()
+    results = []
+    for _ in procs:
+        results += queue.get(timeout=600)
+    for p in procs:
+        p.join()
+        if p.exitcode != 0:
+            raise RuntimeError("a client process failed (exit %d)" % p.exitcode)
+    if len(results) != n:
+        raise RuntimeError("a client thread failed")
+    return results
+
+
+def cycles(server, engine, n, seconds):
+    start = time.time() + 0.5  # the clients connect and run half a second before counting
+    results = run_clients("worker", n, (server.port, engine, start, start + seconds))
+    done = sum(r[0] for r in results)
+    times = [t for r in results for t in r[1]]
+    idle = sum(r[2] for r in results)
+    if idle:
+        raise RuntimeError("the queue ran dry: %d leases found nothing" % idle)
+    return done / seconds, statistics.median(times) if times else float("nan"), sum(r[3] for r in results)
+
+
+def queued(server):
+    return json.loads(server.call("GET", "/api/v1/health")[1])["jobs"].get("queued", 0)
+
+
+def readers(server, path):
+    def round_of(etag):
+        res = run_clients("reader", READERS, (server.port, path, etag, time.time() + 0.5))
+        waits = sorted(r[0] for r in res)
+        ok = [r for r in res if isinstance(r[1], int)]
+        return {"p50": statistics.median(waits), "p90": waits[int(0.9 * len(waits)) - 1],
+                "statuses": sorted(set(str(r[1]) for r in res)),
+                "failed": len(res) - len(ok),
+                "bytes": statistics.median(r[2] for r in ok) if ok else 0,
+                "etag": next((r[3] for r in ok if r[3]), None)}
+    first = round_of(None)
+    again = round_of(first["etag"]) if first["etag"] else None
+    return first, again
+
+
+def one_reader(server, path, engine, n=20):
+    """Median time of GET path after a change: before each GET, a heartbeat of a job at another
+    phi changes the database (so no answer of an earlier version can serve it)."""
+    status, body = server.call("POST", "/api/v1/leases", {"worker": "bench-poller", "engine_version": engine})
+    assert status == 200, status
+    lease = json.loads(body)
+    times, size = [], 0
+    for i in range(n):
+        status, _ = server.call("POST", "/api/v1/jobs/%d/heartbeat" % lease["job_id"],
+                                {"lease_token": lease["lease_token"], "eps": 0.001 * (i + 1)})
+        assert status == 200, status
+        t0 = time.perf_counter()
+        status, body = server.call("GET", path, timeout=120)
+        times.append(time.perf_counter() - t0)
+        assert status == 200, status
+        size = len(body)
+    return statistics.median(times), size
+
+
+def measure(bin_dir, workdir):
+    s = Server(bin_dir, workdir)
+    out = {}
+    try:
+        engine = json.loads(s.call("GET", "/api/v1/health")[1])["engine_version"]
+        t0 = time.time()
+        map_sweeps = [create(s, sweep_body("map-%d" % k, k, 0.4, priority=10)) for k in range(MAP_SWEEPS)]
+        phis = [round(0.2 + 0.01 * i, 2) for i in range(61) if round(0.2 + 0.01 * i, 2) != 0.4]
+        for k in range(OTHER_SWEEPS):
+            create(s, sweep_body("other-%d" % k, 0, phis.pop(0)))
+        print("  %d sweeps created in %.1f s; filling the map ..." % (MAP_SWEEPS + OTHER_SWEEPS,
+              time.time() - t0), file=sys.stderr)
+        t0 = time.time()
+        while any(json.loads(s.call("GET", "/api/v1/sweeps/%d" % i)[1])["counts"]["queued"] > 0
+                  for i in map_sweeps):
+            cycles(s, engine, 32, 5.0)
+        print("  map filled in %.1f s" % (time.time() - t0), file=sys.stderr)
+        out["readers"] = readers(s, "/api/v1/phase-map?phi=0.4&sweep=%d" % map_sweeps[0])
+        out["map"] = one_reader(s, "/api/v1/phase-map?phi=0.4", engine)
+        out["cycles"] = {}
+        rate = 100.0
+        for n in CLIENTS:
+            rounds = []
+            for _ in range(ROUNDS):
+                while queued(s) < rate * ROUND_SECONDS * 2 + 2000:  # never dry within a round
+                    create(s, sweep_body("feed", 0, phis.pop(0)))
+                rounds.append(cycles(s, engine, n, ROUND_SECONDS))
+                rate = max(rate, rounds[-1][0])
+            out["cycles"][n] = (statistics.median(r[0] for r in rounds),
+                                statistics.median(r[1] for r in rounds), sum(r[2] for r in rounds))
+            print("  %d clients: %.1f cycles/s" % (n, out["cycles"][n][0]), file=sys.stderr)
+    finally:
+        s.stop()
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--bin", required=True, help="folder of the compaction-server to measure")
+    ap.add_argument("--baseline", help="folder of another compaction-server, measured alike")
+    ap.add_argument("--out", default=os.path.join(REPO, "bench", "results", "queue_bench.md"))
+    ap.add_argument("--bin-rev", help="the commit --bin was built from, when its folder is not "
+                    "in a git checkout (default: the checkout's HEAD)")
+    ap.add_argument("--baseline-rev", help="the same for --baseline")
+    a = ap.parse_args()
+    workdir = tempfile.mkdtemp(prefix="queue-bench-")
+    load_before = os.getloadavg()
+    try:
+        runs = []
+        if a.baseline:
+            print("measuring the baseline %s ..." % a.baseline, file=sys.stderr)
+            runs.append(("baseline (at %s)" % (a.baseline_rev or revision_of(a.baseline)),
+                         measure(a.baseline, workdir)))
+        print("measuring %s ..." % a.bin, file=sys.stderr)
+        runs.append(("this build (at %s)" % (a.bin_rev or revision_of(a.bin)), measure(a.bin, workdir)))
+    except BaseException:
+        shutil.rmtree(workdir, ignore_errors=True)
+        raise
+    load_after = os.getloadavg()
+    rev = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True,
+                         text=True).stdout.strip()
+    lines = ["# The queue and the phase map under load: fake workers and dashboard readers", "",
+             "Made by `bench/server/queue_bench.py %s` (checkout at %s), %s, on %d cores shared "
+             "with other work: load average %.1f before, %.1f after (1 min)."
+             % (" ".join(sys.argv[1:]), rev, time.strftime("%Y-%m-%d"), os.cpu_count(),
+                load_before[0], load_after[0]), "",
+             "Lease + complete cycles per second (median of %d rounds of %.0f s; in brackets the "
+             "median cycle's time, and the connections the server reset in the %d rounds, each "
+             "request sent again):" % (ROUNDS, ROUND_SECONDS, ROUNDS), "",
+             "| server | " + " | ".join("%d clients" % n for n in CLIENTS) + " |",
+             "|---|" + "---|" * len(CLIENTS)]
+    for name, m in runs:
+        lines.append("| %s | " % name + " | ".join(
+            "%.0f (%.1f ms, %d resets)" % (m["cycles"][n][0], m["cycles"][n][1] * 1e3, m["cycles"][n][2])
+            for n in CLIENTS) + " |")
+    lines += ["", "Dashboard readers and the map (a reader that failed, reset or silent for 60 s, "
+              "counts with the time it waited; statuses: HTTP codes or the client's error):", "",
+              "| server | %d readers of a 2 000-job map: p50 / p90, answer, failed | the same polling "
+              "with If-None-Match: p50 / p90, status, answer | 10 000-job map after a change, one client: median, answer |"
+              % READERS, "|---|---|---|---|"]
+    for name, m in runs:
+        first, again = m["readers"]
+        poll = ("%.0f / %.0f ms, %s, %.0f B" % (again["p50"] * 1e3, again["p90"] * 1e3,
+                                                ",".join(map(str, again["statuses"])), again["bytes"])
+                if again else "no ETag: every poll is the full answer")
+        lines.append("| %s | %.0f / %.0f ms, %.0f KB, %d | %s | %.1f ms, %.0f KB |"
+                     % (name, first["p50"] * 1e3, first["p90"] * 1e3, first["bytes"] / 1e3,
+                        first["failed"], poll,
+                        m["map"][0] * 1e3, m["map"][1] / 1e3))
+    if len(runs) == 2:
+        b, t = runs[0][1], runs[1][1]
+        lines += ["", "Ratios (this build / baseline): cycles " + ", ".join(
+            "%.1fx at %d" % (t["cycles"][n][0] / b["cycles"][n][0], n) for n in CLIENTS) +
+            "; readers' p50 %.1fx faster; the 10 000-job map %.1fx faster."
+            % (b["readers"][0]["p50"] / t["readers"][0]["p50"], b["map"][0] / t["map"][0])]
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    shutil.rmtree(workdir, ignore_errors=True)  # tens of thousands of artifact folders: slow
+
+
+if __name__ == "__main__":
+    main()
