@@ -64,7 +64,7 @@ std::string AnswerCache::tag(const std::string& url, std::uint64_t version) cons
 }
 
 void AnswerCache::serve(const httplib::Request& req, httplib::Response& res,
-                        std::uint64_t version, const std::function<nlohmann::json()>& build) {
+                        std::uint64_t version, const std::function<std::string()>& build) {
   const std::string url = url_of(req);
   const std::string etag = tag(url, version);
   res.set_header("ETag", etag);
@@ -109,9 +109,7 @@ void AnswerCache::serve(const httplib::Request& req, httplib::Response& res,
   }
   if (builder) {
     try {
-      // Strings from clients may hold invalid UTF-8: replaced (U+FFFD), never a throw.
-      building.set_value(std::make_shared<const std::string>(
-          build().dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
+      building.set_value(std::make_shared<const std::string>(build()));
     } catch (...) {
       building.set_exception(std::current_exception());
       std::lock_guard lock(mutex_);

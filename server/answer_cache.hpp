@@ -22,7 +22,6 @@
 #include <unordered_map>
 
 #include <httplib.h>
-#include <nlohmann/json.hpp>
 
 namespace compaction::server {
 
@@ -31,10 +30,10 @@ class AnswerCache {
   AnswerCache() : AnswerCache(64) {}
   explicit AnswerCache(std::size_t max_entries);
 
-  // Answers req with the JSON of build() (status 200) or 304, with its ETag; version is the
-  // database's (the writer's commits()), read by the caller before build reads anything.
+  // Answers req with the JSON text build() returns (status 200) or 304, with its ETag; version
+  // is the database's (the writer's commits()), read by the caller before build reads anything.
   void serve(const httplib::Request& req, httplib::Response& res, std::uint64_t version,
-             const std::function<nlohmann::json()>& build);
+             const std::function<std::string()>& build);
 
   // The tag of a URL (path and query) at a version: "<start>-<version>-<hash of the URL>".
   std::string tag(const std::string& url, std::uint64_t version) const;

@@ -16,10 +16,13 @@ namespace compaction::server {
 
 using nlohmann::json;
 
+std::string json_text(const json& body) {
+  return body.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 void send_json(httplib::Response& res, int status, const json& body) {
   res.status = status;
-  // Strings from clients may hold invalid UTF-8: replaced (U+FFFD), never a throw.
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+  res.set_content(json_text(body), "application/json");
 }
 
 std::string new_error_id() {

@@ -15,6 +15,9 @@
 
 namespace compaction::server {
 
+// A JSON document as the API sends it: strings from clients may hold invalid UTF-8, replaced
+// (U+FFFD), never a throw.
+std::string json_text(const nlohmann::json& body);
 void send_json(httplib::Response& res, int status, const nlohmann::json& body);
 void send_error(httplib::Response& res, const ApiError& e);
 // A 500 with a new error id; the reason goes to the log under the id.

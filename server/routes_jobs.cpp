@@ -24,7 +24,7 @@ void register_job_routes(httplib::Server& server, App& app) {
     f.limit = query_int(req, "limit", 100, 1, 1000);
     f.offset = query_int(req, "offset", 0, 0, 1000000000);
     app.answers.serve(req, res, app.store.db.writer.commits(),
-                      [&] { return views::jobs(app.store.reads.jobs(f), f.limit, f.offset); });
+                      [&] { return json_text(views::jobs(app.store.reads.jobs(f), f.limit, f.offset)); });
   });
 
   add_route(server, endpoints::show_job,

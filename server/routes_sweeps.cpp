@@ -73,7 +73,7 @@ void register_sweep_routes(httplib::Server& server, App& app) {
     const int limit = query_int(req, "limit", 100, 1, 1000);
     const int offset = query_int(req, "offset", 0, 0, 1000000000);
     app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
-      return views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset);
+      return json_text(views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset));
     });
   });
 

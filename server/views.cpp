@@ -1,5 +1,6 @@
 #include "views.hpp"
 
+#include <charconv>
 #include <string>
 
 #include "compaction/params.hpp"
@@ -14,6 +15,40 @@ template <typename T>
 json opt(const std::optional<T>& v) {
   return v ? json(*v) : json(nullptr);
 }
+
+// Appends JSON values to a text: a double as the shortest text that reads back as the same
+// double (std::to_chars; integral ones with ".0", as nlohmann writes them), strings through
+// nlohmann (escapes, invalid UTF-8 replaced).
+struct JsonText {
+  std::string out;
+
+  JsonText& key(const char* k) {
+    if (out.back() != '{') out += ',';
+    out += '"';
+    out += k;
+    out += "\":";
+    return *this;
+  }
+  void value(double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    const std::string_view s(buf, static_cast<std::size_t>(r.ptr - buf));
+    out += s;
+    if (s.find_first_of(".e") == std::string_view::npos) out += ".0";
+  }
+  void value(std::int64_t v) { out += std::to_string(v); }
+  void value(const std::string& v) {
+    out += json(v).dump(-1, ' ', false, json::error_handler_t::replace);
+  }
+  template <typename T>
+  void value(const std::optional<T>& v) {
+    if (v) {
+      value(*v);
+    } else {
+      out += "null";
+    }
+  }
+};
 
 json counts(const StateCounts& c) {
   return {{"queued", c.queued},       {"running", c.running},     {"succeeded", c.succeeded},
@@ -127,29 +162,39 @@ json sweep_jobs(const std::vector<JobRecord>& rows) {
   return out;
 }
 
-json phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
-  json out = json::array();
-  for (const PhaseMapPoint& p : points) {
-    out.push_back({{"S", p.S},
-                   {"R", p.R},
-                   {"phi", p.phi},
-                   {"state", p.state},
-                   {"class", opt(p.cls)},
-                   {"confidence", opt(p.confidence)},
-                   {"runner_up", opt(p.runner_up)},
-                   {"n_reflections", opt(p.n_reflections)},
-                   {"band_speed_ratio", opt(p.band_speed_ratio)},
-                   {"band_speed_error", opt(p.band_speed_error)},
-                   {"band_speed_transit", opt(p.band_speed_transit)},
-                   {"band_speed_transit_error", opt(p.band_speed_transit_error)},
-                   {"job_id", p.job_id},
-                   {"status", opt(p.status)},
-                   {"cells_per_unit", p.cells_per_unit},
-                   {"cells_per_strut", p.cells_per_unit * strut_fraction(p.phi)},
-                   {"eps_end", p.eps_end},
-                   {"progress_eps", opt(p.progress_eps)}});
+std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
+  // Keys in the order a json object writes them (sorted).
+  JsonText t;
+  t.out.reserve(64 + points.size() * 400);
+  t.out += "{";
+  t.key("phi").value(phi);
+  t.key("points");
+  t.out += '[';
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const PhaseMapPoint& p = points[i];
+    t.out += i == 0 ? "{" : ",{";
+    t.key("R").value(p.R);
+    t.key("S").value(p.S);
+    t.key("band_speed_error").value(p.band_speed_error);
+    t.key("band_speed_ratio").value(p.band_speed_ratio);
+    t.key("band_speed_transit").value(p.band_speed_transit);
+    t.key("band_speed_transit_error").value(p.band_speed_transit_error);
+    t.key("cells_per_strut").value(static_cast<double>(p.cells_per_unit) * strut_fraction(p.phi));
+    t.key("cells_per_unit").value(p.cells_per_unit);
+    t.key("class").value(p.cls);
+    t.key("confidence").value(p.confidence);
+    t.key("eps_end").value(p.eps_end);
+    t.key("job_id").value(p.job_id);
+    t.key("n_reflections").value(p.n_reflections);
+    t.key("phi").value(p.phi);
+    t.key("progress_eps").value(p.progress_eps);
+    t.key("runner_up").value(p.runner_up);
+    t.key("state").value(p.state);
+    t.key("status").value(p.status);
+    t.out += '}';
   }
-  return {{"phi", phi}, {"points", out}};
+  t.out += "]}";
+  return t.out;
 }
 
 json artifacts(std::int64_t job_id, const std::vector<ArtifactInfo>& list) {

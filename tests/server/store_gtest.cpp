@@ -43,7 +43,7 @@ std::optional<json> sweep_of(Store& s, std::int64_t id) {
 }
 json jobs_of(Store& s, const JobFilter& f) { return views::jobs(s.reads.jobs(f), f.limit, f.offset); }
 json phase_map_of(Store& s, double phi, std::optional<std::int64_t> sweep) {
-  return views::phase_map(phi, s.reads.phase_map(phi, sweep));
+  return json::parse(views::phase_map(phi, s.reads.phase_map(phi, sweep)));
 }
 std::optional<json> cancel_of(Store& s, std::int64_t id, Millis now) {
   const auto n = s.sweeps.cancel(id, now);
@@ -394,4 +394,40 @@ TEST_F(StoreTest, ReadsSeeTheCommittedStateWhileAnotherConnectionHoldsTheWriteLo
   EXPECT_EQ(phase_map_of(store, 0.4, std::nullopt)["points"].size(), 1u);
   ASSERT_TRUE(sweep_of(store, 1));
   EXPECT_EQ((*sweep_of(store, 1))["counts"]["queued"], 1);
+}
+
+TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
+  // The slow way the text is written fast: an object per point, dumped.
+  const auto slow = [](double phi, const std::vector<PhaseMapPoint>& points) {
+    const auto opt = [](const auto& v) { return v ? json(*v) : json(nullptr); };
+    json out = json::array();
+    for (const PhaseMapPoint& p : points) {
+      out.push_back({{"S", p.S}, {"R", p.R}, {"phi", p.phi}, {"state", p.state},
+                     {"class", opt(p.cls)}, {"confidence", opt(p.confidence)},
+                     {"runner_up", opt(p.runner_up)}, {"n_reflections", opt(p.n_reflections)},
+                     {"band_speed_ratio", opt(p.band_speed_ratio)},
+                     {"band_speed_error", opt(p.band_speed_error)},
+                     {"band_speed_transit", opt(p.band_speed_transit)},
+                     {"band_speed_transit_error", opt(p.band_speed_transit_error)},
+                     {"job_id", p.job_id}, {"status", opt(p.status)},
+                     {"cells_per_unit", p.cells_per_unit},
+                     {"cells_per_strut", p.cells_per_unit * compaction::strut_fraction(p.phi)},
+                     {"eps_end", p.eps_end}, {"progress_eps", opt(p.progress_eps)}});
+    }
+    return json{{"phi", phi}, {"points", out}}.dump(-1, ' ', false, json::error_handler_t::replace);
+  };
+  PhaseMapPoint done;
+  done.S = 1e-5, done.R = 0.1, done.phi = 0.4, done.eps_end = 0.2, done.state = "succeeded";
+  done.cls = "b", done.runner_up = "a \"quoted\" \\ \xff name", done.status = "ok";
+  done.confidence = 1.0, done.band_speed_ratio = 1.7300000000000002, done.band_speed_error = 3e-300;
+  done.band_speed_transit = -0.5, done.band_speed_transit_error = 12345678.0;
+  done.n_reflections = 3, done.progress_eps = 0.2, done.job_id = 42, done.cells_per_unit = 20;
+  PhaseMapPoint queued;
+  queued.S = 0.001 + 1e-4 * 7 + (0.09 - 0.001) / 49 * 13, queued.R = 1.0 / 3.0, queued.phi = 0.55, queued.eps_end = 1;
+  queued.state = "queued", queued.job_id = 7, queued.cells_per_unit = 8;
+  for (const auto& points : {std::vector<PhaseMapPoint>{}, std::vector<PhaseMapPoint>{done, queued}}) {
+    // The same keys, order and values (doubles compared exactly); a number's text may be
+    // shorter than nlohmann's, never another double.
+    EXPECT_EQ(json::parse(views::phase_map(0.4, points)).dump(), json::parse(slow(0.4, points)).dump());
+  }
 }
