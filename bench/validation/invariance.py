@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The paper's invariance claim, measured: at fixed S and R the pattern does not depend on q_y,
 rho or nu.
 
@@ -33,6 +33,33 @@ TOLERANCE = {"round-off": 1e-9, "5 %": 0.05}
 
 def fmt(v, digits=4):
     return "-" if v is None else "%.*g" % (digits, v)
+
+
+def maps_figure(a, resolutions, examples, dirs, name):
+    """The space-time maps of every run, beside the report; None without numpy or matplotlib."""
+    try:
+        import numpy as np
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return None
+    rows = [(cps, ex) for cps in resolutions for ex in examples]
+    fig, axes = plt.subplots(len(rows), len(VARIANTS), figsize=(3.2 * len(VARIANTS), 2.6 * len(rows)),
+                             squeeze=False)
+    for (cps, ex), axrow in zip(rows, axes):
+        for i, (variant, ax) in enumerate(zip(VARIANTS, axrow)):
+            m = np.load(os.path.join(dirs[name(ex, cps, i)], "spacetime.npy"))
+            ax.imshow(np.log10(m.T + 1e-3), aspect="auto", origin="lower", cmap="magma", vmin=-1, vmax=2)
+            ax.set_title("(%s) %g cells/strut, %s" % (ex, cps, variant), fontsize=8)
+            ax.set_xlabel("frame", fontsize=7)
+            ax.set_ylabel("grid row", fontsize=7)
+            ax.tick_params(labelsize=6)
+    fig.tight_layout()
+    path = os.path.splitext(a.out)[0] + "_maps.png"
+    fig.savefig(path, dpi=60)
+    plt.close(fig)
+    return path
 
 
 def main():
@@ -95,6 +122,12 @@ def main():
                 fmt(m["transit"]), fmt(m["transit_err"], 2), m["n_r"], verdict,
                 runs.summary(d)["wall_seconds"]))
         lines.append("")
+    figure = maps_figure(a, resolutions, examples, dirs, name)
+    if figure:
+        lines += ["![space-time maps of every run](%s)" % os.path.relpath(figure, os.path.dirname(a.out)), "",
+                  "Space-time maps (log10 of the row-averaged plastic strain rate / (V/h0), rows "
+                  "against frames of d_eps = 0.002) of every run above, one row per example and "
+                  "resolution, the variants in the tables' order.", ""]
     for cps in resolutions:
         lines.append("Result at %g cells across a strut: %s" % (cps, (
             "every variant gives the reference material's pattern." if not failures[cps] else

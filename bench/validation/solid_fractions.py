@@ -1,0 +1,82 @@
+#!/usr/bin/python3
+"""The paper's six examples at several solid fractions, at the default resolution.
+
+Each example's S and R (docs/validation.md) at phi = 0.3, 0.4, 0.5 and 0.6, pseudo-1D, to full
+density (eps = 1 - phi, as the service runs them), 4.5 cells across a strut (the `default`
+preset: 28, 20, 16 and 13 cells per unit cell). It writes the label with its confidence, both
+readings of c_b/V (docs/classifier.md) against the non-reflecting speed 1/(1 - phi), N_r and the
+wall time of each run; (a) is the non-reflecting band, whose c_b/V should be 1/(1 - phi).
+
+  bench/validation/solid_fractions.py --phi 0.3,0.4,0.5,0.6 --jobs 2 --bin build/bin
+
+A missing phi is left out of the table (the runs of the others are cached in --work, so the
+study can be made in parts).
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+
+EXAMPLES = {"a": (4e-3, 1e-5), "b": (4e-3, 4e-4), "c": (4e-2, 2e-2), "d": (1.32e-3, 4e-3),
+            "e": (1e-1, 1e-5), "f": (4e-3, 1e-1)}
+CELLS_PER_STRUT = 4.5  # the default preset (server/presets.cpp)
+
+
+def fmt(v, digits=3):
+    return "-" if v is None else "%.*g" % (digits, v)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--phi", default="0.3,0.4,0.5,0.6")
+    ap.add_argument("--examples", default=",".join(EXAMPLES))
+    ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "solid-fractions"))
+    ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "solid-fractions.md"))
+    a = ap.parse_args()
+    phis = [float(p) for p in a.phi.split(",")]
+    examples = [e for e in a.examples.split(",") if e]
+    for e in examples:
+        if e not in EXAMPLES:
+            ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
+    scenes = {"%s-phi%g" % (e, phi): {"S": EXAMPLES[e][0], "R": EXAMPLES[e][1], "phi": phi,
+                                      "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - phi,
+                                      "snapshot_eps": ""}
+              for phi in phis for e in examples}
+    dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
+    classify_bin = os.path.join(a.bin, "compaction-classify")
+
+    lines = ["# The six examples at phi = 0.3 to 0.6 (default resolution)", "",
+             "Made by `bench/validation/solid_fractions.py %s`. Pseudo-1D, to full density "
+             "(eps = 1 - phi), %g cells across a strut (the `default` preset), one thread per run. "
+             "c_b/V in both readings (fit: slope of the leading edge before its first turn; transit: "
+             "mean speed of the first leg; docs/classifier.md), with their uncertainty, against "
+             "the non-reflecting speed 1/(1 - phi_discrete) of the particles' structure."
+             % (" ".join(sys.argv[1:]), CELLS_PER_STRUT), "",
+             "| example | phi | cells per unit cell (per strut) | label (confidence) | c_b/V fit | c_b/V transit | 1/(1 - phi) | transit against it | N_r | wall [s] |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for e in examples:
+        for phi in phis:
+            d = dirs["%s-phi%g" % (e, phi)]
+            s = runs.summary(d)
+            c = runs.classify(d, classify_bin)
+            f = c.get("features") or {}
+            ideal = 1 / (1 - s["phi_discrete"])
+            transit = f.get("band_speed_transit")
+            lines.append("| (%s) | %g | %d (%.2f) | %s (%s) | %s +- %s | %s +- %s | %.3f | %s | %s | %.0f |" % (
+                e, phi, s["grid"]["cells_per_unit"], s["grid"]["cells_per_strut"],
+                c.get("class") or "none", fmt(c.get("confidence"), 2),
+                fmt(f.get("band_speed_ratio")), fmt(f.get("band_speed_error"), 2),
+                fmt(transit), fmt(f.get("band_speed_transit_error"), 2), ideal,
+                "-" if transit is None else "%+.1f %%" % (100 * (transit / ideal - 1)),
+                c.get("n_reflections"), s["wall_seconds"]))
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
