@@ -29,6 +29,9 @@ EXAMPLES = {"a": 1e-5, "b": 4e-4}
 S, PHI, EPS_END = 4e-3, 0.4, 0.2
 # Quadratic B-spline MPM converges at most at second order in space (smooth solutions).
 FORMAL_ORDER = 2
+# The largest grid convergence index of a converged value: a reference must be more accurate
+# than the 5 % within which the accuracy targets ask runs to agree with it.
+REFERENCE_GCI = 0.05
 
 
 def run(bin_dir, runs, ex, cells):
@@ -112,8 +115,9 @@ def converged(ms, key):
     levels are in the asymptotic range, the Richardson limit with Roache's grid convergence index;
     an observed order above the scheme's formal order is no evidence of faster convergence (the
     levels are not yet asymptotic), so the extrapolation uses at most the formal order, and the
-    index (safety factor 1.25 for three levels) is the uncertainty. Otherwise the finest level,
-    with its last change as the uncertainty (a lower bound: the levels have not settled)."""
+    index (safety factor 1.25 for three levels) is the uncertainty; an index above REFERENCE_GCI
+    makes the limit no reference. Otherwise the finest level, with its last change as the
+    uncertainty (a lower bound: the levels have not settled)."""
     m1, m2, m3 = ms[-3:]
     p = observed_order(m1["cells"], m2["cells"], m3["cells"], m1[key], m2[key], m3[key])
     if p is None:
@@ -127,6 +131,13 @@ def converged(ms, key):
     p_used = min(p, FORMAL_ORDER)
     limit = m3[key] + (m3[key] - m2[key]) / (r ** p_used - 1)
     gci = 1.25 * abs(m3[key] - m2[key]) / (r ** p_used - 1) / abs(m3[key])
+    if gci > REFERENCE_GCI:
+        return {"value": m3[key], "uncertainty": abs(m3[key] / m2[key] - 1), "extrapolated": False,
+                "how": "observed order %.2f from %d, %d, %d cells, but a grid convergence index of "
+                       "%.0f %% (Richardson limit %s at order %.1f): above the %.0f %% a reference "
+                       "needs, so not converged; the finest level stands, %s."
+                       % (p, m1["cells"], m2["cells"], m3["cells"], 100 * gci, fmt(limit, 4),
+                          p_used, 100 * REFERENCE_GCI, fmt(m3[key], 4))}
     return {"value": limit, "uncertainty": gci, "extrapolated": True,
             "how": "observed order %.2f from %d, %d, %d cells%s; Richardson limit %s (order %.1f), "
                    "grid convergence index %.1f %% of the finest run."

@@ -95,7 +95,7 @@ def main():
     for cps, ex in ((c, e) for c in resolutions for e in examples):
         sr = EXAMPLES[ex]
         lines += ["## (%s): R = %g, %g cells across a strut" % (ex, sr["R"], cps), "",
-                  "| material | label (confidence) | c_b/V fit | c_b/V transit | N_r | against the reference material | CPU [s] |",
+                  "| material | label (confidence) | c_b/V fit | c_b/V transit | N_r | against the reference material | wall [s] |",
                   "|---|---|---|---|---|---|---|"]
         base = None
         for i, (variant, (_, tolerance)) in enumerate(VARIANTS.items()):
