@@ -44,6 +44,20 @@ json adaptive_body(int budget, int in_flight = 8) {
 // The field the results are labelled from: a boundary at R = 1e-3, independent of S.
 std::string label_at(double R) { return std::log10(R) < -3.0 ? "a" : "b"; }
 
+// The result of a leased job, labelled from the field.
+ResultRecord labelled_result(const Lease& lease) {
+  ResultRecord r;
+  r.status = "ok";
+  r.scene = lease.scene;
+  r.engine_version = "test-1";
+  r.source_revision = "abc";
+  r.cls = label_at(json::parse(lease.scene)["R"].get<double>());
+  r.confidence = 0.9;
+  r.runner_up = *r.cls == "a" ? "b" : "a";
+  r.summary = "{}";
+  return r;
+}
+
 struct AdaptiveSweepsTest : ::testing::Test {
   TempDir dir;
   Store store{dir.file("jobs.db"), config()};
@@ -63,17 +77,8 @@ struct AdaptiveSweepsTest : ::testing::Test {
   bool run_one() {
     const auto lease = store.queue.lease("w", "test-1", ++now);
     if (!lease) return false;
-    const json scene = json::parse(lease->scene);
-    ResultRecord r;
-    r.status = "ok";
-    r.scene = lease->scene;
-    r.engine_version = "test-1";
-    r.source_revision = "abc";
-    r.cls = label_at(scene["R"].get<double>());
-    r.confidence = 0.9;
-    r.runner_up = *r.cls == "a" ? "b" : "a";
-    r.summary = "{}";
-    EXPECT_EQ(store.queue.complete(lease->job_id, lease->token, r, ++now), LeaseCheck::ok);
+    EXPECT_EQ(store.queue.complete(lease->job_id, lease->token, labelled_result(*lease), ++now),
+              LeaseCheck::ok);
     adaptive.job_ended(store, limits, lease->job_id, now);
     return true;
   }
@@ -165,15 +170,8 @@ TEST_F(AdaptiveSweepsTest, AtStartEveryLiveAdaptiveSweepPlansOn) {
   const SweepPlan plan = plan_sweep(adaptive_body(60), limits);
   const CreatedSweep c = store.sweeps.create(sweep_rows(plan, "test-1"), now);
   while (const auto lease = store.queue.lease("w", "test-1", ++now)) {
-    ResultRecord r;
-    r.status = "ok";
-    r.scene = lease->scene;
-    r.engine_version = "test-1";
-    r.source_revision = "abc";
-    r.cls = label_at(json::parse(lease->scene)["R"].get<double>());
-    r.confidence = 0.9;
-    r.summary = "{}";
-    ASSERT_EQ(store.queue.complete(lease->job_id, lease->token, r, ++now), LeaseCheck::ok);
+    ASSERT_EQ(store.queue.complete(lease->job_id, lease->token, labelled_result(*lease), ++now),
+              LeaseCheck::ok);
   }
   ASSERT_EQ(counts(c.id).open(), 0);
   adaptive.advance_all(store, limits, ++now);
