@@ -19,8 +19,9 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
+import examples  # noqa: E402
 
-EXAMPLES = {"a": {"S": 4e-3, "R": 1e-5}, "b": {"S": 4e-3, "R": 4e-4}}
+EXAMPLES = {k: dict(zip(("S", "R"), examples.EXAMPLES[k])) for k in "ab"}
 BASE = {"phi": 0.4, "eps_end": 0.2, "snapshot_eps": ""}
 VARIANTS = {  # name: (changed material constants, what the check allows)
     "reference material": ({}, None),

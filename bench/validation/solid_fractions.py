@@ -18,9 +18,8 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
+from examples import EXAMPLES  # noqa: E402
 
-EXAMPLES = {"a": (4e-3, 1e-5), "b": (4e-3, 4e-4), "c": (4e-2, 2e-2), "d": (1.32e-3, 4e-3),
-            "e": (1e-1, 1e-5), "f": (4e-3, 1e-1)}
 CELLS_PER_STRUT = 4.5  # the default preset (server/presets.cpp)
 
 

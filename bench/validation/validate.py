@@ -24,18 +24,12 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
+import examples  # noqa: E402
 
 ROOT = runs.ROOT
-PHI = 0.4
+PHI = examples.PHI
 # class: (S, R, eps_end at eps-scale 1): to full density, 1 - phi, as the service runs them.
-EXAMPLES = {
-    "a": (4e-3, 1e-5, 0.6),
-    "b": (4e-3, 4e-4, 0.6),
-    "c": (4e-2, 2e-2, 0.6),
-    "d": (1.32e-3, 4e-3, 0.6),
-    "e": (1e-1, 1e-5, 0.6),
-    "f": (4e-3, 1e-1, 0.6),
-}
+EXAMPLES = {k: (S, R, 0.6) for k, (S, R) in examples.EXAMPLES.items()}
 # Fig. 3 line: S = 4e-3 fixed, R rising through class (b): R/S^2 = 0.625 (a) ... 62.5.
 FIG3_S = 4e-3
 FIG3_R = [1e-5, 2e-5, 4e-5, 7e-5, 1e-4, 1.4e-4, 2e-4, 3e-4, 4e-4, 6e-4, 1e-3]
