@@ -8,6 +8,7 @@ packages=(
   cmake ninja-build g++ git pkg-config
   libsqlite3-dev sqlite3 nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libcli11-dev
+  libeigen3-dev  # header-only, for the tests' independent oracles (not linked by the engine)
   python3 curl
   # the Python client's venv (docs/python.md): venv with pip and setuptools, and the wheel of
   # `wheel` that an offline venv builds the package with
@@ -19,14 +20,6 @@ for arg in "$@"; do
     *) echo "install-deps.sh: unknown option '$arg' (usage: scripts/install-deps.sh [--bench])" >&2; exit 2 ;;
   esac
 done
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  echo "installing: ${missing[*]}"
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+# shellcheck source=lib/apt.sh
+. "$(dirname "${BASH_SOURCE[0]}")/lib/apt.sh"
+apt_install_missing "${packages[@]}"
