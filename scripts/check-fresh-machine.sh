@@ -45,6 +45,8 @@
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# shellcheck source=lib/debian-root.sh
+. "$repo/scripts/lib/debian-root.sh"   # debian_root_tools, debian_root_make, debian_root_host_apt
 parent=/var/tmp
 logs=""
 keep=0
@@ -152,6 +154,7 @@ step() {
 # errexit (which a function called as `f || rc=$?` would not have) and the variables it reads.
 step_fn() {
   step "$1" "$2" bash -c "$(declare -p root repo worktree checkout mirror suite); $(declare -f "$3");
+    $(declare -f debian_root_tools debian_root_make debian_root_host_apt);
     set -euo pipefail; $3"
 }
 record() {  # record NAME T0 RC
@@ -204,17 +207,8 @@ for old in "$parent"/compaction-fresh.*; do
 done
 
 host_tools() {
-  if ! command -v debootstrap >/dev/null; then
-    echo "apt-get install debootstrap"
-    apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends debootstrap
-  fi
-  debootstrap --version
+  debian_root_tools "$mirror" "$suite"
   command -v git chroot mount timeout
-  if command -v curl >/dev/null; then
-    curl -fsS -m 30 -o /dev/null "$mirror/dists/$suite/Release" ||
-      { echo "cannot reach the Debian mirror: $mirror/dists/$suite/Release"; return 1; }
-    echo "mirror $mirror answers"
-  fi
 }
 step_fn host-tools 600 host_tools
 
@@ -223,18 +217,12 @@ chmod 755 "$root"
 echo $$ >"$root/.compaction-fresh-check"
 chroot_cmd=(chroot "$root" /usr/bin/env -i PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin
   HOME=/root LANG=C.UTF-8 TERM=dumb COMPACTION_IN_FRESH_CHECK=1)
-step debootstrap 900 debootstrap --variant=minbase "$suite" "$root" "$mirror"
+make_root() { debian_root_make "$root" "$mirror" "$suite"; }
+step_fn debootstrap 900 make_root
 
 prepare() {
-  if [ -f /etc/apt/sources.list.d/debian.sources ]; then
-    cp /etc/apt/sources.list.d/debian.sources "$root/etc/apt/sources.list.d/"
-    rm -f "$root/etc/apt/sources.list"
-  fi
-  cat "$root"/etc/apt/sources.list.d/*.sources "$root"/etc/apt/sources.list 2>/dev/null | grep -E '^(deb|URIs|Suites)' || true
+  debian_root_host_apt "$root"
   cp -L /etc/resolv.conf "$root/etc/resolv.conf"
-  mkdir -p "$root/etc/ssl/certs" "$root/usr/local/share/ca-certificates"
-  cp -a /etc/ssl/certs/. "$root/etc/ssl/certs/"
-  [ -d /usr/local/share/ca-certificates ] && cp -a /usr/local/share/ca-certificates/. "$root/usr/local/share/ca-certificates/"
   mount -t proc proc "$root/proc"
   mount -t sysfs sysfs "$root/sys"
   mount --bind /dev "$root/dev"
