@@ -42,11 +42,14 @@ inline constexpr Endpoint list_sweeps   {"GET",  "/api/v1/sweeps",              
 inline constexpr Endpoint show_sweep    {"GET",  R"(/api/v1/sweeps/(\d+))",             TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint cancel_sweep  {"POST", R"(/api/v1/sweeps/(\d+)/cancel)",      TokenKind::submit, BodyKind::json,      no_body_bytes};
 inline constexpr Endpoint export_sweep  {"GET",  R"(/api/v1/sweeps/(\d+)/export)",      TokenKind::none,   BodyKind::none,      no_body_bytes};
+// Writes nothing: no token; a sweep's body, as create_sweep.
+inline constexpr Endpoint estimate_sweep{"POST", "/api/v1/sweeps/estimate",             TokenKind::none,   BodyKind::json,      sweep_body_bytes};
 inline constexpr Endpoint list_jobs     {"GET",  "/api/v1/jobs",                        TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint show_job      {"GET",  R"(/api/v1/jobs/(\d+))",               TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint list_artifacts{"GET",  R"(/api/v1/jobs/(\d+)/artifacts)",     TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint artifact      {"GET",  R"(/api/v1/jobs/(\d+)/artifacts/([^/]+))", TokenKind::none, BodyKind::none,    no_body_bytes};
 inline constexpr Endpoint phase_map     {"GET",  "/api/v1/phase-map",                   TokenKind::none,   BodyKind::none,      no_body_bytes};
+inline constexpr Endpoint phase_regions {"GET",  "/api/v1/phase-map/regions",           TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint lease         {"POST", "/api/v1/leases",                      TokenKind::worker, BodyKind::json,      small_body_bytes};
 inline constexpr Endpoint heartbeat     {"POST", R"(/api/v1/jobs/(\d+)/heartbeat)",     TokenKind::worker, BodyKind::json,      small_body_bytes};
 inline constexpr Endpoint complete      {"POST", R"(/api/v1/jobs/(\d+)/complete)",      TokenKind::worker, BodyKind::multipart, upload_body_bytes};

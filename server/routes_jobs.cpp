@@ -1,14 +1,58 @@
-// /api/v1/jobs (list with filters, show, artifacts) and /api/v1/phase-map. The list and the
-// map are the answers clients poll: served through the answer cache (ETag, If-None-Match).
+// /api/v1/jobs (list with filters, show, artifacts), /api/v1/phase-map and the regions its
+// labels predict. The list, the map and the regions are the answers clients poll: served
+// through the answer cache (ETag, If-None-Match).
 #include "app.hpp"
+
+#include "compaction/params.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
+#include "phase_regions.hpp"
 #include "result_intake.hpp"
 #include "views.hpp"
 
 namespace compaction::server {
 
 using nlohmann::json;
+
+namespace {
+
+// The filters of /phase-map and /phase-map/regions: phi (required), one sweep, one grid.
+struct MapQuery {
+  double phi = 0;
+  std::optional<std::int64_t> sweep, cells_per_unit;
+};
+
+MapQuery map_query(const httplib::Request& req) {
+  MapQuery q;
+  const auto phi = query_number(req, "phi");
+  if (!phi) throw ApiError(422, "phi", "is required (e.g. ?phi=0.4)");
+  q.phi = *phi;
+  q.sweep = query_id(req, "sweep");
+  if (req.has_param("cells_per_unit")) {
+    q.cells_per_unit = query_int(req, "cells_per_unit", 0, static_cast<int>(limits::cells_per_unit.lo),
+                                 static_cast<int>(limits::cells_per_unit.hi));
+  }
+  return q;
+}
+
+// The regions the map's labelled runs predict over the box of all its runs (none without runs).
+std::optional<regions::Regions> predicted_regions(const std::vector<PhaseMapPoint>& points,
+                                                  int grid) {
+  std::vector<adaptive::Point> all;
+  std::vector<adaptive::Labelled> labelled;
+  for (const PhaseMapPoint& p : points) {
+    all.push_back({p.S, p.R});
+    // A label counts from a stable run's result; an unstable run's label is not the pattern's.
+    if (p.state == "succeeded" && p.status == std::optional<std::string>("ok") && p.cls) {
+      labelled.push_back({{p.S, p.R}, p.cls, p.confidence.value_or(0.0), p.runner_up});
+    }
+  }
+  const auto box = regions::box_of(all);
+  if (!box) return std::nullopt;
+  return regions::predict(labelled, *box, grid);
+}
+
+}  // namespace
 
 void register_job_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::list_jobs, [&app](const httplib::Request& req, httplib::Response& res) {
@@ -55,11 +99,26 @@ void register_job_routes(httplib::Server& server, App& app) {
 
   add_route(server, endpoints::phase_map,
              [&app](const httplib::Request& req, httplib::Response& res) {
-               const auto phi = query_number(req, "phi");
-               if (!phi) throw ApiError(422, "phi", "is required (e.g. ?phi=0.4)");
-               const auto sweep = query_id(req, "sweep");
+               const MapQuery q = map_query(req);
                app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
-                 return views::phase_map(*phi, app.store.reads.phase_map(*phi, sweep));
+                 return views::phase_map(
+                     q.phi, app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit));
+               });
+             });
+
+  add_route(server, endpoints::phase_regions,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const MapQuery q = map_query(req);
+               if (!limits::phi.contains(q.phi)) {
+                 throw ApiError(422, "phi", "must be in " + to_string(limits::phi));
+               }
+               const int grid = query_int(req, "grid", regions::kDefaultGrid, regions::kMinGrid,
+                                          regions::kMaxGrid);
+               app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+                 return json_text(views::phase_regions(
+                     q.phi, q.sweep, q.cells_per_unit,
+                     predicted_regions(app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit),
+                                       grid)));
                });
              });
 }

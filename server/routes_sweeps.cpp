@@ -6,6 +6,7 @@
 
 #include "app.hpp"
 #include "clock.hpp"
+#include "cost_model.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
 #include "safe_text.hpp"
@@ -67,6 +68,23 @@ void register_sweep_routes(httplib::Server& server, App& app) {
     const json out = views::created_sweep(*app.store.reads.sweep(c.id), c, plan.preset);
     res.set_header("Location", "/api/v1/sweeps/" + std::to_string(c.id));
     send_json(res, 201, out);
+  });
+
+  // The cost of a sweep before it is created: the planner's jobs (the same 422s as a create)
+  // through the cost model; an adaptive sweep's budget at its initial grid's mean cost.
+  add_route(server, endpoints::estimate_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
+    const SweepPlan plan = plan_sweep(parse_json_body(req), app.limits);
+    views::SweepEstimate e;
+    e.jobs = plan.scenes.size();
+    for (const SceneParams& p : plan.scenes) e.cpu_seconds += cost::cpu_seconds(p);
+    e.max_jobs = plan.adaptive ? plan.adaptive->budget : e.jobs;
+    e.max_cpu_seconds = e.jobs > 0 ? e.cpu_seconds * static_cast<double>(e.max_jobs) / e.jobs : 0;
+    const std::int64_t now = now_ms();
+    e.lease_seconds = app.options.lease_seconds;
+    for (const auto& [name, at] : app.workers.list(now)) {
+      if (now - at <= static_cast<std::int64_t>(app.options.lease_seconds * 1000)) ++e.workers;
+    }
+    send_json(res, 200, views::sweep_estimate(e));
   });
 
   add_route(server, endpoints::list_sweeps, [&app](const httplib::Request& req, httplib::Response& res) {

@@ -223,7 +223,8 @@ std::optional<JobDetail> StoreReads::job(std::int64_t id) {
   return d;
 }
 
-std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::int64_t> sweep_id) {
+std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::int64_t> sweep_id,
+                                                 std::optional<std::int64_t> cells_per_unit) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
@@ -234,8 +235,9 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id"
       " WHERE j.phi BETWEEN ?1 - 1e-9 AND ?1 + 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
+      " AND (?3 IS NULL OR j.cells_per_unit = ?3)"
       " ORDER BY j.S, j.R, j.id");
-  s.bind(1, phi).bind(2, sweep_id);
+  s.bind(1, phi).bind(2, sweep_id).bind(3, cells_per_unit);
   std::vector<PhaseMapPoint> points;
   while (s.step()) {
     PhaseMapPoint p;

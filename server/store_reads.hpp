@@ -140,7 +140,9 @@ class StoreReads {
   std::vector<std::int64_t> live_adaptive_sweeps_of_job(std::int64_t job_id);
   Page<JobRecord> jobs(const JobFilter& filter);
   std::optional<JobDetail> job(std::int64_t id);
-  std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id);
+  // The runs at phi (within 1e-9), of one sweep and one grid (cells per unit cell) when given.
+  std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id,
+                                       std::optional<std::int64_t> cells_per_unit = std::nullopt);
   std::optional<std::vector<ArtifactInfo>> artifacts(std::int64_t job_id);
   std::optional<Artifact> artifact(std::int64_t job_id, const std::string& name);
   StoreMetrics metrics();

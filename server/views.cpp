@@ -1,9 +1,11 @@
 #include "views.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <string>
 
 #include "compaction/params.hpp"
+#include "cost_model.hpp"
 
 namespace compaction::server::views {
 
@@ -206,6 +208,59 @@ json artifacts(std::int64_t job_id, const std::vector<ArtifactInfo>& list) {
                    {"url", "/api/v1/jobs/" + std::to_string(job_id) + "/artifacts/" + a.name}});
   }
   return {{"job_id", job_id}, {"artifacts", out}};
+}
+
+json phase_regions(double phi, std::optional<std::int64_t> sweep,
+                   std::optional<std::int64_t> cells_per_unit,
+                   const std::optional<regions::Regions>& r) {
+  json out = {{"phi", phi},
+              {"sweep", opt(sweep)},
+              {"cells_per_unit", opt(cells_per_unit)},
+              {"rule",
+               {{"bandwidth_decades", regions::kBandwidthDecades},
+                {"cutoff_decades", regions::kCutoffSigmas * regions::kBandwidthDecades},
+                {"evidence_scale", regions::kEvidenceScale}}}};
+  if (!r) {  // no run at phi: nothing to draw
+    out.update({{"grid", 0}, {"runs", 0}, {"S", nullptr}, {"R", nullptr},
+                {"classes", json::array()}, {"uncertainty", json::array()}});
+    return out;
+  }
+  json classes = json::array(), uncertainty = json::array();
+  for (int j = 0; j < r->grid; ++j) {
+    std::string row(static_cast<std::size_t>(r->grid), '.');
+    json u = json::array();
+    for (int i = 0; i < r->grid; ++i) {
+      const regions::Cell& c = r->at(i, j);
+      if (c.cls && c.cls->size() == 1) row[static_cast<std::size_t>(i)] = (*c.cls)[0];
+      u.push_back(std::round(c.uncertainty * 1000) / 1000);
+    }
+    classes.push_back(std::move(row));
+    uncertainty.push_back(std::move(u));
+  }
+  out.update({{"grid", r->grid},
+              {"runs", r->runs},
+              {"S", {{"log_min", r->box.log_S_min}, {"log_max", r->box.log_S_max}}},
+              {"R", {{"log_min", r->box.log_R_min}, {"log_max", r->box.log_R_max}}},
+              {"classes", std::move(classes)},
+              {"uncertainty", std::move(uncertainty)}});
+  return out;
+}
+
+json sweep_estimate(const SweepEstimate& e) {
+  const auto finish = [&](double cpu) {
+    return e.workers > 0 ? json(cpu / static_cast<double>(e.workers)) : json(nullptr);
+  };
+  return {{"jobs", e.jobs},
+          {"max_jobs", e.max_jobs},
+          {"cpu_seconds", e.cpu_seconds},
+          {"cpu_hours", e.cpu_seconds / 3600},
+          {"max_cpu_seconds", e.max_cpu_seconds},
+          {"max_cpu_hours", e.max_cpu_seconds / 3600},
+          {"ns_per_particle_step", cost::kNsPerParticleStep},
+          {"workers", e.workers},
+          {"workers_seen_within_seconds", e.lease_seconds},
+          {"finish_seconds", finish(e.cpu_seconds)},
+          {"max_finish_seconds", finish(e.max_cpu_seconds)}};
 }
 
 }  // namespace compaction::server::views

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "phase_regions.hpp"
 #include "store_reads.hpp"
 #include "sweep_store.hpp"
 
@@ -25,5 +26,19 @@ nlohmann::json sweep_jobs(const std::vector<JobRecord>& rows);
 // answer's time (an object per point, a map node per field).
 std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points);
 nlohmann::json artifacts(std::int64_t job_id, const std::vector<ArtifactInfo>& list);
+// What a sweep would cost (POST /sweeps/estimate): its jobs, CPU time from the cost model and
+// the time to finish on the workers connected (null without one).
+struct SweepEstimate {
+  std::size_t jobs = 0, max_jobs = 0;     // max_jobs: an adaptive sweep's budget, else jobs
+  double cpu_seconds = 0, max_cpu_seconds = 0;
+  std::size_t workers = 0;                // seen within the lease time
+  double lease_seconds = 0;
+};
+nlohmann::json sweep_estimate(const SweepEstimate& e);
+// The predicted regions at phi: the box, one string of class letters per row of R ('.': no
+// class) and the uncertainties rounded to 3 decimals, with the filters and the rule's constants.
+nlohmann::json phase_regions(double phi, std::optional<std::int64_t> sweep,
+                             std::optional<std::int64_t> cells_per_unit,
+                             const std::optional<regions::Regions>& r);
 
 }  // namespace compaction::server::views

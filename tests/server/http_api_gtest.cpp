@@ -112,6 +112,13 @@ TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
       {"bad limit", "GET", "/api/v1/jobs?limit=0", "", "", 422, "limit"},
       {"phase map without phi", "GET", "/api/v1/phase-map", "", "", 422, "phi"},
       {"phase map NaN phi", "GET", "/api/v1/phase-map?phi=nan", "", "", 422, "phi"},
+      {"phase map bad numerics filter", "GET", "/api/v1/phase-map?phi=0.4&cells_per_unit=x", "", "", 422, "cells_per_unit"},
+      {"regions without phi", "GET", "/api/v1/phase-map/regions", "", "", 422, "phi"},
+      {"regions phi out of range", "GET", "/api/v1/phase-map/regions?phi=0.9", "", "", 422, "phi"},
+      {"regions grid too fine", "GET", "/api/v1/phase-map/regions?phi=0.4&grid=1000", "", "", 422, "grid"},
+      {"regions numerics filter below the range", "GET", "/api/v1/phase-map/regions?phi=0.4&cells_per_unit=1", "", "", 422, "cells_per_unit"},
+      {"regions bad sweep", "GET", "/api/v1/phase-map/regions?phi=0.4&sweep=0", "", "", 422, "sweep"},
+      {"estimate S out of range", "POST", "/api/v1/sweeps/estimate", R"({"name": "x", "points": [{"S": 2, "R": 0.001, "phi": 0.4}]})", "", 422, "points[0].S"},
       {"unknown artifact", "GET", job + "/artifacts/spacetime.npy", "", "", 404, "name"},
       {"bad export format", "GET", "/api/v1/sweeps/1/export?format=xml", "", "", 422, "format"},
       {"lease without worker token", "POST", "/api/v1/leases", R"({"worker": "w", "engine_version": "x"})", submit, 403, "Authorization"},
@@ -197,6 +204,20 @@ TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
   ASSERT_EQ(map["points"].size(), 1u);
   EXPECT_EQ(map["points"][0]["class"], "c");
   EXPECT_EQ(map["points"][0]["job_id"], id);
+  // The one label predicts its class around it, and only near it.
+  const json regions = json::parse(client->Get("/api/v1/phase-map/regions?phi=0.4&grid=16")->body);
+  EXPECT_EQ(regions["runs"], 1);
+  ASSERT_EQ(regions["classes"].size(), 16u);
+  EXPECT_EQ(regions["classes"][8].get<std::string>()[8], 'c');
+  EXPECT_EQ(json::parse(client->Get("/api/v1/phase-map/regions?phi=0.4&cells_per_unit=7")->body)["runs"], 0);
+  // A sweep's cost before it is created, with the worker of this test connected.
+  const auto estimate = client->Post("/api/v1/sweeps/estimate", R"({"name": "x", "S": [0.01, 0.02], "R": 0.001, "phi": 0.4})", "application/json");
+  ASSERT_EQ(estimate->status, 200) << estimate->body;
+  const json e = json::parse(estimate->body);
+  EXPECT_EQ(e["jobs"], 2);
+  EXPECT_GT(e["cpu_seconds"].get<double>(), 0);
+  EXPECT_EQ(e["workers"], 1);
+  EXPECT_DOUBLE_EQ(e["finish_seconds"].get<double>(), e["cpu_seconds"].get<double>());
   const auto artifact = client->Get((path + "/artifacts/frames.csv").c_str());
   EXPECT_EQ(artifact->body, "eps,sigma_top\n0.002,1\n");
   // An artifact is data: no browser may guess another type for it.

@@ -1,0 +1,30 @@
+// The expected cost of a run before it runs: its particle-steps (particles x time steps to
+// eps_end, both from the scene alone) times the time of one particle-step. The one home of the
+// cost model: POST /api/v1/sweeps/estimate sums it over a sweep for the dashboard's form.
+#pragma once
+
+#include "compaction/params.hpp"
+
+namespace compaction::server::cost {
+
+// One particle-step on one core, engine 0.2.1: 29 ns in pseudo-1D at 20 cells per unit cell
+// with two runs sharing the two cores of the reference machine (docs/savings.md; 27.4 ns alone,
+// bench/results/engine_bench.md). The default transfer (APIC) and gradient (MLS).
+inline constexpr double kNsPerParticleStep = 29.0;
+// What the alternatives cost per particle-step, against the default (docs/savings.md).
+inline constexpr double kPicFlipFactor = 1.19;
+inline constexpr double kBsplineFactor = 1.30;
+// Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
+inline constexpr double kFull2dFactor = 49.0 / 29.0;
+
+// Particles: the solid share phi of the specimen's grid cells, particles_per_cell^2 in each
+// (21 760 for the pseudo-1D column at 20 cells per unit cell and phi = 0.4; 21 726 measured).
+double particles(const SceneParams& p);
+// Time steps to eps_final at the CFL step dt = cfl dx / (c_P + V), the plate speed standing
+// for the fastest particle: eps h0 (c_P + V) / (V cfl dx) (237 946 for example (a) at 20 cells
+// per unit cell to eps = 0.6; 237 626 measured).
+double steps(const SceneParams& p);
+// CPU seconds of the run on one core.
+double cpu_seconds(const SceneParams& p);
+
+}  // namespace compaction::server::cost

@@ -1,0 +1,63 @@
+// The cost model (server/cost_model.hpp) against what runs measured: the particles and the time
+// steps of example (a) at 20 cells per unit cell (docs/savings.md), the factors of the other
+// numerics, and the cost's growth with resolution (cells^3) and with 1 / S.
+#include "cost_model.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace compaction;
+using namespace compaction::server;
+
+namespace {
+
+// Example (a) of the paper at the default preset's grid.
+SceneParams example_a() {
+  SceneParams p;
+  p.S = 4e-3;
+  p.R = 1e-5;
+  p.phi = 0.4;
+  p.cells_per_unit = 20;
+  p.eps_end = 0.6;
+  return p;
+}
+
+TEST(CostModel, particles_and_steps_match_the_measured_run_of_example_a) {
+  const SceneParams p = example_a();
+  // Tolerance 0.5 %: the model counts phi x the grid's particles (21 760), the scene builder
+  // drops those whose centre falls in a hole (21 726 measured, docs/savings.md).
+  EXPECT_NEAR(cost::particles(p), 21726, 0.005 * 21726);
+  // Tolerance 0.5 %: the model's fastest particle is the plate (V); the engine's step takes the
+  // fastest particle each step (237 626 steps measured, docs/savings.md).
+  EXPECT_NEAR(cost::steps(p), 237626, 0.005 * 237626);
+  EXPECT_DOUBLE_EQ(cost::cpu_seconds(p),
+                   cost::particles(p) * cost::steps(p) * cost::kNsPerParticleStep * 1e-9);
+}
+
+TEST(CostModel, cost_grows_as_cells_cubed_and_as_one_over_S) {
+  SceneParams p = example_a();
+  const double base = cost::cpu_seconds(p);
+  p.cells_per_unit = 40;
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, 8.0, 1e-9);
+  p = example_a();
+  p.S = 2e-3;  // twice the steps, up to the +V in c_P + V
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, 2.0, 0.01);
+  p = example_a();
+  p.eps_end = 0.3;
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, 0.5, 1e-12);
+}
+
+TEST(CostModel, other_numerics_and_full_2d_cost_their_measured_factors) {
+  const double base = cost::cpu_seconds(example_a());
+  SceneParams p = example_a();
+  p.transfer = Transfer::pic_flip;
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, cost::kPicFlipFactor, 1e-12);
+  p = example_a();
+  p.gradient = Gradient::bspline;
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, cost::kBsplineFactor, 1e-12);
+  p = example_a();
+  p.geometry = Geometry::full2d;  // 17 unit cells across
+  EXPECT_NEAR(cost::particles(p) / cost::particles(example_a()), 17.0, 1e-12);
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, 17.0 * cost::kFull2dFactor, 1e-9);
+}
+
+}  // namespace
