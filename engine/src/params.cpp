@@ -1,6 +1,7 @@
 // Derived material quantities and validation of the scene parameters.
 #include "compaction/params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -19,6 +20,19 @@ double SceneParams::p_wave_speed() const {
 }
 double SceneParams::hole_side() const { return unit_cell() * std::sqrt(1.0 - phi); }
 double strut_fraction(double phi) { return 1.0 - std::sqrt(1.0 - phi); }
+
+namespace random_structure {
+double thinnest_strut_fraction(double phi) { return kMinStrut * strut_fraction(phi); }
+double area_spread(double phi) {
+  if (!(phi < 1.0)) return 0.0;  // the solid column has no voids
+  // The largest void, side sqrt((1 + spread)(1 - phi)), leaves the thinnest strut in its cell.
+  const double largest = 1.0 - thinnest_strut_fraction(phi);
+  return std::min(kAreaSpread, largest * largest / (1.0 - phi) - 1.0);
+}
+double smallest_void_fraction(double phi) {
+  return std::sqrt((1.0 - area_spread(phi)) * (1.0 - phi));
+}
+}  // namespace random_structure
 
 int SceneParams::grid_cells_per_unit() const {
   if (cells_per_unit > 0) return cells_per_unit;
@@ -108,11 +122,17 @@ std::vector<FieldError> validate(const SceneParams& p) {
     const int cells_per_unit = p.grid_cells_per_unit();
     const char* field = p.cells_per_unit != 0 ? "cells_per_unit" : "cells_per_strut";
     const double dx = p.unit_cell() / cells_per_unit;
-    const double strut = p.unit_cell() - p.hole_side();
-    if (p.phi != 1.0 && (p.hole_side() < dx || strut < dx)) {
-      e.push_back({field, "too coarse for phi = " + num(p.phi) + ": hole " +
-                              num(p.hole_side() / dx) + " and strut " + num(strut / dx) +
-                              " grid cells, need >= 1 each"});
+    // A random structure's smallest void and thinnest strut (random_structure) count.
+    const bool random = p.structure == Structure::random;
+    const double hole = random ? p.unit_cell() * random_structure::smallest_void_fraction(p.phi)
+                               : p.hole_side();
+    const double strut = random ? p.unit_cell() * random_structure::thinnest_strut_fraction(p.phi)
+                                : p.unit_cell() - p.hole_side();
+    if (p.phi != 1.0 && (hole < dx || strut < dx)) {
+      e.push_back({field, std::string("too coarse for ") + (random ? "a random structure at " : "") +
+                              "phi = " + num(p.phi) + ": " + (random ? "smallest hole " : "hole ") +
+                              num(hole / dx) + " and " + (random ? "thinnest strut " : "strut ") +
+                              num(strut / dx) + " grid cells, need >= 1 each"});
     }
     const double nodes = static_cast<double>(p.cols() * cells_per_unit + 5) *
                          (p.n_rows * cells_per_unit + 5);
@@ -130,6 +150,13 @@ const char* to_string(PlateContact c) {
 }
 
 const char* to_string(Gradient g) { return g == Gradient::mls ? "mls" : "bspline"; }
+const char* to_string(Structure s) { return s == Structure::regular ? "regular" : "random"; }
+
+bool parse(const std::string& s, Structure& out) {
+  if (s == "regular") return out = Structure::regular, true;
+  if (s == "random") return out = Structure::random, true;
+  return false;
+}
 
 bool parse(const std::string& s, Gradient& out) {
   if (s == "mls") return out = Gradient::mls, true;

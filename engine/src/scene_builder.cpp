@@ -4,22 +4,12 @@
 #include <cmath>
 
 #include "kernel.hpp"
+#include "splitmix64.hpp"
+#include "void_layout.hpp"
 
 namespace compaction {
 
 namespace {
-
-// splitmix64: a tiny, portable generator, so that a seed means the same numbers everywhere.
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
 
 void build_grid(const SceneParams& p, Grid& g) {
   const int cells_per_unit = p.grid_cells_per_unit();
@@ -75,32 +65,27 @@ Setup make_setup(const SceneParams& p) {
 // The particles of the perforated specimen, at rest and unstrained; sets the strut count and
 // thickness of `su`.
 Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
-  // The hole is a whole number of particle columns and rows: the count nearest to its side
-  // L sqrt(1 - phi), so that the particles represent phi as closely as the lattice allows
-  // (centring it on the cell instead would force an even count and could miss phi by 10 %).
-  // With an odd count the hole sits half a particle off centre, the same in every cell:
-  // a translation of the whole structure, which leaves every strut and hole alike.
   const int per_unit = p.grid_cells_per_unit() * p.particles_per_cell;  // particles per unit cell side
   const double spacing = g.dx / p.particles_per_cell;
-  const int hole_n = std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0,
-                                per_unit - 1);
-  const int hole_first = (per_unit - hole_n) / 2;  // first hole column/row within a cell
+  const VoidLayout voids = void_layout(p, per_unit, spacing);
   const int strut_cols = p.geometry == Geometry::pseudo1d ? 1 : p.cols() + 1;
   su.n_struts = strut_cols * p.n_rows;
-  su.strut_thickness = (per_unit - hole_n) * spacing;
+  // The regular structure's strut (a random one's struts differ from it; the deflection
+  // diagnostic normalises by this nominal value).
+  su.strut_thickness = (per_unit - regular_void_side(p, per_unit, spacing)) * spacing;
 
   Particles P;
   P.vol0 = spacing * spacing;
   P.mass = p.rho * P.vol0;
   SplitMix64 rng{p.seed};
   const int npx = p.cols() * per_unit, npy = p.n_rows * per_unit;
-  const double quarter = 0.25 * hole_n;  // half of a hole's half-height, in particles
   for (int j = 0; j < npy; ++j) {
-    const int cy = j / per_unit, ly = j % per_unit - hole_first;  // row within the cell
-    const bool hole_row = hole_n > 0 && ly >= 0 && ly < hole_n;
+    const int cy = j / per_unit, ly = j % per_unit;  // cell row, particle row within it
     for (int i = 0; i < npx; ++i) {
-      const int lx = i % per_unit - hole_first;
-      const bool hole_col = hole_n > 0 && lx >= 0 && lx < hole_n;
+      const int cx = i / per_unit, lx = i % per_unit;
+      const Void& v = voids.at(cx, cy);
+      const bool hole_row = !v.empty() && ly >= v.y0 && ly < v.y1;
+      const bool hole_col = !v.empty() && lx >= v.x0 && lx < v.x1;
       if (hole_row && hole_col) continue;
       double px = (i + 0.5) * spacing, py = (j + 0.5) * spacing;
       if (p.perturbation > 0.0) {
@@ -111,14 +96,14 @@ Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
       P.x.push_back(px);
       P.y.push_back(py);
       P.x0.push_back(px);
-      // A vertical strut spans the rows of the holes, between two holes of a row.
+      // A vertical strut spans the rows of its cell's hole, between two holes of a row.
       if (hole_row) {
         // The strut a column belongs to: the cell edge it is nearest (pseudo1d: the only one).
-        int edge = i / per_unit + (lx >= hole_n ? 1 : 0);
+        int edge = cx + (lx >= v.x1 ? 1 : 0);
         if (p.geometry == Geometry::pseudo1d) edge = 0;
         P.strut.push_back(cy * strut_cols + edge);
-        const double from_mid = std::abs(ly + 0.5 - 0.5 * hole_n);
-        P.strut_mid.push_back(from_mid < quarter ? 1 : 0);
+        const double from_mid = std::abs(ly + 0.5 - 0.5 * (v.y0 + v.y1));
+        P.strut_mid.push_back(from_mid < 0.25 * (v.y1 - v.y0) ? 1 : 0);
       } else {
         P.strut.push_back(-1);
         P.strut_mid.push_back(0);

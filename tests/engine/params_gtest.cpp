@@ -48,6 +48,36 @@ TEST(ParamsGtest, TooCoarseGridForTheStructureIsRejected) {
   EXPECT_TRUE(has_error(validate(p), "cells_per_unit"));
 }
 
+// A random structure's struts may thin to kMinStrut = 1/2 of the regular one, which must keep a
+// grid cell: 2.5 cells across the regular strut pass, 1.8 (the fast preset) do not.
+TEST(ParamsGtest, RandomStructureNeedsItsThinnestStrutResolved) {
+  SceneParams p;
+  p.structure = Structure::random, p.cells_per_strut = 2.5;
+  EXPECT_TRUE(validate(p).empty());
+  p.cells_per_strut = 1.8;
+  const auto e = validate(p);
+  ASSERT_TRUE(has_error(e, "cells_per_strut"));
+  EXPECT_NE(e[0].message.find("thinnest strut"), std::string::npos) << e[0].message;
+  p.structure = Structure::regular;
+  EXPECT_TRUE(validate(p).empty());
+}
+
+// The spread of the void areas: kAreaSpread where the largest void leaves kMinStrut of the
+// regular strut, less at low phi; the largest void then leaves exactly that strut.
+TEST(ParamsGtest, RandomVoidAreaSpreadKeepsTheThinnestStrut) {
+  EXPECT_EQ(random_structure::area_spread(0.4), random_structure::kAreaSpread);
+  EXPECT_EQ(random_structure::area_spread(0.75), random_structure::kAreaSpread);
+  for (double phi : {0.2, 0.25, 0.3}) {
+    const double w = random_structure::area_spread(phi);
+    EXPECT_GT(w, 0.05) << phi;
+    EXPECT_LT(w, random_structure::kAreaSpread) << phi;
+    const double largest = std::sqrt((1.0 + w) * (1.0 - phi));
+    EXPECT_NEAR(1.0 - largest, random_structure::thinnest_strut_fraction(phi), 1e-12) << phi;
+  }
+  EXPECT_NEAR(random_structure::thinnest_strut_fraction(0.4), 0.5 * (1 - std::sqrt(0.6)), 1e-15);
+  EXPECT_NEAR(random_structure::smallest_void_fraction(0.4), std::sqrt(0.7 * 0.6), 1e-15);
+}
+
 TEST(ParamsGtest, TheGridPutsAtLeastCellsPerStrutAcrossTheThinnestStrut) {
   SceneParams p;  // 4.5 cells across the strut, no cells_per_unit
   p.phi = 0.4;    // strut 1 - sqrt(0.6) = 0.2254 of the unit cell: 4.5 / 0.2254 = 19.96
@@ -86,7 +116,7 @@ TEST(ParamsGtest, JsonRoundTripKeepsEveryField) {
   SceneParams p;
   p.S = 0.02, p.R = 3e-4, p.phi = 0.55, p.geometry = Geometry::full2d, p.n_cols = 5;
   p.transfer = Transfer::pic_flip, p.contact = PlateContact::unilateral, p.seed = 77;
-  p.gradient = Gradient::bspline;
+  p.gradient = Gradient::bspline, p.structure = Structure::random;
   p.snapshot_eps = {0.1, 0.3};
   SceneParams q;
   ASSERT_TRUE(from_json(to_json(p), q).empty());
@@ -101,6 +131,9 @@ TEST(ParamsGtest, JsonReadingIsStrict) {
   EXPECT_TRUE(has_error(e, "n_rows"));
   e = from_json(nlohmann::json::parse(R"({"geometry": "3d"})"), p);
   ASSERT_TRUE(has_error(e, "geometry"));
+  e = from_json(nlohmann::json::parse(R"({"structure": "voronoi"})"), p);
+  ASSERT_TRUE(has_error(e, "structure"));
+  EXPECT_NE(e[0].message.find("\"regular\" or \"random\""), std::string::npos) << e[0].message;
   e = from_json(nlohmann::json::parse(R"([1, 2])"), p);
   EXPECT_EQ(e.size(), 1u);
   e = from_json(nlohmann::json::parse(R"({"phi": 0.95})"), p);

@@ -26,6 +26,12 @@ enum class Gradient {
   bspline  // the exact gradient of the B-spline weights, for both (standard MPM, as Matter)
 };
 
+// The voids of the specimen (docs/engine.md, "Random structures").
+enum class Structure {
+  regular,  // every unit cell has the same centred square void of side L sqrt(1 - phi)
+  random    // each void's area and centre drawn from `seed` (random_structure below)
+};
+
 enum class PlateContact {
   bonded,     // plates impose their normal velocity on the nodes they cover (no separation)
   unilateral  // plates only push: the material may separate from a plate
@@ -73,6 +79,25 @@ inline constexpr Range snapshot_eps{0.0, 0.95};
 // a fraction of the unit cell: 1 - sqrt(1 - phi) (1 for the solid column, phi = 1).
 double strut_fraction(double phi);
 
+// The distribution of the voids of a random structure, the rule build_scene() follows and
+// validate() checks. Each unit cell keeps one square void, whose area is drawn uniformly in
+// L^2 (1 - phi) [1 - spread, 1 + spread], in antithetic pairs (u, 2 - u) dealt to the cells in a
+// seeded random order, so that the areas add up to those of the regular structure and the
+// realised phi differs from phi only by the particle lattice. Its centre moves from the cell's
+// centre by a uniform offset in x and in y, up to what keeps half of kMinStrut times the
+// regular strut between the void and its cell's edges: two neighbouring voids leave at least
+// that strut between them, and the bottom and top rows keep solid on the plates.
+namespace random_structure {
+inline constexpr double kAreaSpread = 0.3;  // half-width of the uniform void area, / mean  [-]
+inline constexpr double kMinStrut = 0.5;    // thinnest strut, / the regular strut         [-]
+// The spread at phi: kAreaSpread, or less where the largest void would leave a strut thinner
+// than kMinStrut times the regular one (below phi ~ 0.39).
+double area_spread(double phi);
+// The thinnest strut and the smallest void side, as fractions of the unit cell.
+double thinnest_strut_fraction(double phi);
+double smallest_void_fraction(double phi);
+}  // namespace random_structure
+
 struct SceneParams {
   // Dimensionless inputs (the paper's Eq. 3).
   double S = 4e-3;    // Mach number V / sqrt(E / rho)                          [-]
@@ -89,6 +114,7 @@ struct SceneParams {
   Geometry geometry = Geometry::pseudo1d;
   int n_cols = 17;  // unit cells across (full2d only; pseudo1d always has one)  [-]
   int n_rows = 34;  // unit cells along the compression axis                     [-]
+  Structure structure = Structure::regular;  // the voids: regular or random (from seed)
 
   // Numerics. The grid is given by the cells across the thinnest strut, so that one setting
   // means the same accuracy at every phi; cells_per_unit overrides it when set.
@@ -102,7 +128,7 @@ struct SceneParams {
   Gradient gradient = Gradient::mls;
   PlateContact contact = PlateContact::bonded;
   double perturbation = 0.0;    // random particle offset, fraction of spacing    [-]
-  std::uint64_t seed = 1;       // seed of the perturbation                       [-]
+  std::uint64_t seed = 1;       // seed of the perturbation and the random structure [-]
 
   // Run control and outputs.
   double eps_end = -1.0;        // final imposed strain V t / h0; <= 0: fully dense, 1 - phi
@@ -140,10 +166,12 @@ std::vector<FieldError> validate(const SceneParams& p);
 const char* to_string(Geometry g);
 const char* to_string(Transfer t);
 const char* to_string(PlateContact c);
+const char* to_string(Structure s);
 const char* to_string(Gradient g);
 bool parse(const std::string& s, Geometry& out);
 bool parse(const std::string& s, Transfer& out);
 bool parse(const std::string& s, PlateContact& out);
+bool parse(const std::string& s, Structure& out);
 bool parse(const std::string& s, Gradient& out);
 
 }  // namespace compaction
