@@ -43,9 +43,14 @@ export const api = {
   limits: () => request('GET', '/limits'),
   phaseMap: (phi, sweep) =>
     request('GET', `/phase-map?phi=${encodeURIComponent(phi)}${sweep ? `&sweep=${sweep}` : ''}`),
+  // The classes the labelled runs predict over the map (its background); cpu: one grid or none.
+  regions: (phi, sweep, cpu, grid) => request('GET', `/phase-map/regions?${new URLSearchParams({
+    phi, ...(sweep ? { sweep } : {}), ...(cpu ? { cells_per_unit: cpu } : {}), ...(grid ? { grid } : {}) })}`),
   sweeps: (limit = 200) => request('GET', `/sweeps?limit=${limit}`),
   sweep: (id) => request('GET', `/sweeps/${id}`),
   createSweep: (body) => request('POST', '/sweeps', body),
+  // What a sweep body would cost (jobs, CPU time, finish on the workers connected); creates nothing.
+  estimateSweep: (body) => request('POST', '/sweeps/estimate', body),
   cancelSweep: (id) => request('POST', `/sweeps/${id}/cancel`, {}),
   job: (id) => request('GET', `/jobs/${id}`),
   jobs: (query) => request('GET', `/jobs?${new URLSearchParams(query)}`),

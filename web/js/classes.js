@@ -43,9 +43,32 @@ export function label(cat) {
   return CLASSES[cat] ? `${cat} · ${CLASSES[cat].name}` : look(cat).name;
 }
 
-// Draws one marker of a category centred at (x, y) with radius r on a 2D canvas context.
-export function drawMarker(ctx, cat, x, y, r, progress = 0) {
+// How much a label's marker fades towards white at confidence c (the classifier's gap between
+// its best and runner-up scores): up to LOW_CONFIDENCE_FADE at c = 0, nothing at c = 1 or
+// without a confidence. A faded marker is outlined in its class colour, so its shape and class
+// stay readable.
+export const LOW_CONFIDENCE_FADE = 0.75;
+const OUTLINE_FROM_FADE = 0.15; // c below 0.8: outline in the class colour, not white
+export function confidenceFade(c) {
+  return c === null || c === undefined || !Number.isFinite(c) ? 0 : LOW_CONFIDENCE_FADE * (1 - Math.max(0, Math.min(1, c)));
+}
+
+function fadeColor(hex, t) {
+  const [r, g, b] = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16));
+  const m = (v) => Math.round(v + (255 - v) * t);
+  return `rgb(${m(r)},${m(g)},${m(b)})`;
+}
+
+// Draws one marker of a category centred at (x, y) with radius r on a 2D canvas context (or an
+// SvgPathContext). fade: towards white (confidenceFade); ring: a class whose colour rings the
+// marker (an unclassified run's runner-up).
+export function drawMarker(ctx, cat, x, y, r, progress = 0, fade = 0, ring = null) {
   const lk = look(cat);
+  if (ring && CLASSES[ring]) {
+    ctx.beginPath();
+    ctx.arc(x, y, r + 1.6, 0, 2 * Math.PI);
+    ctx.lineWidth = 2.2; ctx.strokeStyle = CLASSES[ring].color; ctx.stroke();
+  }
   ctx.beginPath();
   switch (lk.shape) {
     case 'circle': ctx.arc(x, y, r, 0, 2 * Math.PI); break;
@@ -86,10 +109,11 @@ export function drawMarker(ctx, cat, x, y, r, progress = 0) {
       return;
     default: ctx.arc(x, y, r, 0, 2 * Math.PI);
   }
-  ctx.fillStyle = lk.color;
+  ctx.fillStyle = fade > 0 ? fadeColor(lk.color, fade) : lk.color;
   ctx.fill();
-  ctx.lineWidth = 1;
-  ctx.strokeStyle = 'rgba(255,255,255,0.9)';
+  const outline = fade >= OUTLINE_FROM_FADE;
+  ctx.lineWidth = outline ? 1.5 : 1;
+  ctx.strokeStyle = outline ? lk.color : 'rgba(255,255,255,0.9)';
   ctx.stroke();
 }
 

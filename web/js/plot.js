@@ -57,14 +57,15 @@ function fmtLinear(v, step) {
   return v.toFixed(Math.min(d, 6));
 }
 
-// Places a label "10^e" (as a superscript) or a plain number at an SVG text node.
+// Places a label at an SVG text node: on a log axis "10^e" (a superscript) for a decade and
+// "m×10^e" between decades (2 and 5 on a short axis), the same notation on the whole axis (a
+// plain "0.02" beside "10^-2" read as two notations); 1 and 10 and their multiples are plain.
 function setTickText(text, v, kind, step) {
   if (kind === 'log') {
-    const e = Math.round(Math.log10(v));
-    if (Math.abs(Math.log10(v) - e) > 1e-6) { text.textContent = Number(v.toPrecision(2)).toString(); return; }
-    if (e === 0) { text.textContent = '1'; return; }
-    if (e === 1) { text.textContent = '10'; return; }
-    text.textContent = '10';
+    const e = Math.floor(Math.log10(v) + 1e-9);
+    const m = Number((v / 10 ** e).toPrecision(2));
+    if (e === 0 || e === 1) { text.textContent = String(Number((m * 10 ** e).toPrecision(2))); return; }
+    text.textContent = m === 1 ? '10' : `${m}×10`;
     const sup = svgEl('tspan', { dy: '-0.5em', 'font-size': '0.78em' }, text);
     sup.textContent = String(e).replace('-', '−');
   } else {

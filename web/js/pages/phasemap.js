@@ -1,8 +1,12 @@
 // Phase map: log10 S against log10 R at one phi, one marker per run coloured by its class
-// (Fig. 2 of the paper), live while sweeps run. Canvas for the markers (10,000 stay fast), SVG
-// for axes and overlays. Hover: a tooltip with the run's numbers; click: the run's page.
+// (Fig. 2 of the paper), over the regions the labelled runs predict, live while sweeps run.
+// Canvas for the background and the markers (10,000 stay fast), SVG for axes and overlays.
+// Hover: a tooltip with the run's numbers (or the prediction under the mouse); click: the
+// run's page. Export: SVG and PNG of the figure with its legend.
 import { api } from '../api.js';
-import { CLASSES, STATES, category, drawMarker, label, look, swatch } from '../classes.js';
+import { CLASSES, STATES, category, confidenceFade, drawMarker, label, look, swatch } from '../classes.js';
+import { cellAt, cellColor, drawRegions } from '../regions.js';
+import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
 import { bucklingR, strutAspectRatio } from '../physics.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
@@ -34,34 +38,85 @@ function pageHtml() {
         <label class="field">Sweep
           <select id="map-sweep" aria-label="sweep"><option value="">all sweeps</option></select></label>
         <label class="check"><input type="checkbox" id="map-buckling"><span>buckling onset <i>R</i><sub>crit</sub> = π²<i>a</i>²/12</span></label>
+        <label class="check"><input type="checkbox" id="map-regions"><span>predicted regions (background)</span></label>
+        <div class="export-row"><span>Export</span>
+          <button type="button" class="small" id="map-export-svg">SVG</button>
+          <button type="button" class="small" id="map-export-png">PNG</button></div>
         <h2 class="legend-title">Legend</h2>
         <ul class="legend" id="map-legend"></ul>
+        <ul class="legend legend-keys" id="map-keys"></ul>
         <p class="hint">Hover a marker for its numbers, click it to open the run.</p>
       </aside>
     </div>`;
 }
 
+// Runs at one (S, R) (other numerics, other sweeps) are set around their place, evenly on a
+// circle of SPREAD radii, the coarsest grid first at the top, so none hides another.
+const SPREAD = 1.15;
+function placeOffsets(pts, r) {
+  const groups = new Map();
+  for (const p of pts) {
+    const key = `${p.S}|${p.R}`;
+    if (!groups.has(key)) groups.set(key, []);
+    groups.get(key).push(p);
+  }
+  const off = new Map();
+  for (const g of groups.values()) {
+    if (g.length < 2) continue;
+    g.sort((a, b) => a.cells_per_unit - b.cells_per_unit || a.job_id - b.job_id);
+    g.forEach((p, k) => {
+      const a = -Math.PI / 2 + (2 * Math.PI * k) / g.length;
+      off.set(p, [SPREAD * r * Math.cos(a), SPREAD * r * Math.sin(a)]);
+    });
+  }
+  return { off, places: groups.size };
+}
+
 // Markers of the visible points in a stable draw order (categories by ORDER, classes last; finer
-// resolution over coarser); returns the drawn points, their canvas positions and the counts.
+// resolution over coarser); returns the drawn points, their canvas positions, the counts and
+// what the SVG export redraws (markers).
 function drawPoints(plot, pts) {
   const r = markerRadius(pts.length);
+  const { off, places } = placeOffsets(pts, r);
   const drawn = pts.map((p) => ({ p, cat: category(p) }));
   drawn.sort((a, b) => (ORDER[a.cat] ?? 9) - (ORDER[b.cat] ?? 9) || a.p.cells_per_unit - b.p.cells_per_unit);
   const positions = new Float32Array(drawn.length * 2); // [x, y] per drawn point (canvas pixels)
   const counts = {};
+  const markers = [];
   for (let i = 0; i < drawn.length; i++) {
     const { p, cat } = drawn[i];
-    const x = plot.cx(p.S), y = plot.cy(p.R);
+    const [dx, dy] = off.get(p) || [0, 0];
+    const x = plot.cx(p.S) + dx, y = plot.cy(p.R) + dy;
     positions[2 * i] = x; positions[2 * i + 1] = y;
     counts[cat] = (counts[cat] || 0) + 1;
     const progress = p.progress_eps !== null && p.eps_end > 0 ? p.progress_eps / p.eps_end : 0;
-    drawMarker(plot.ctx, cat, x, y, r, progress);
+    const fade = CLASSES[cat] ? confidenceFade(p.confidence) : 0;
+    const ring = cat === 'unclassified' ? p.runner_up : null;
+    drawMarker(plot.ctx, cat, x, y, r, progress, fade, ring);
+    markers.push({ cat, x, y, r, progress, fade, ring });
   }
-  return { drawn, positions, counts, radius: r };
+  return { drawn, positions, counts, radius: r, markers, places };
 }
 
 function markerRadius(n) {
   return n > 3000 ? 2.6 : n > 600 ? 3.6 : n > 150 ? 5 : 7;
+}
+
+// A log axis's domain widened, when needed, so that markers of radius r (and their spread and
+// rings) at the extreme values stay inside the px-long plot area instead of being cut at its
+// frame.
+function fitMarkers(dom, values, px, r) {
+  const v = values.filter((x) => x > 0 && Number.isFinite(x));
+  if (!v.length) return dom;
+  const lo = Math.log10(Math.min(...v)), hi = Math.log10(Math.max(...v));
+  let a = Math.log10(dom[0]), b = Math.log10(dom[1]);
+  const need = (r * (SPREAD + 1.3) + 4) / px; // as a share of the axis
+  for (let k = 0; k < 3; k++) { // the share grows with the span: settle in a few rounds
+    const span = b - a;
+    a = Math.min(a, lo - need * span);
+    b = Math.max(b, hi + need * span);
+  }
+  return [10 ** a, 10 ** b];
 }
 
 // The buckling onset R_crit at phi as a dashed line with its label, when it is inside the plot.
@@ -100,10 +155,47 @@ function renderLegend(legend, counts) {
   for (const [k, s] of Object.entries(STATES)) item(k, s.name, s.note);
 }
 
-function summaryHtml(counts, total, phi) {
+// The keys below the legend: marker fading by confidence, the runner-up ring of an unclassified
+// run, and the background's tint and grey when it is shown.
+function keyItems(regions) {
+  const items = [0.95, 0.5, 0.05].map((c) => ({ kind: 'confidence', cat: 'a', fade: confidenceFade(c), text: `confidence ${c}` }));
+  items.push({ kind: 'runner-up', cat: 'unclassified', ring: 'b', text: 'unclassified, ringed by its runner-up' });
+  if (regions) {
+    items.push({ kind: 'region', color: cellColor('a', 0), text: 'background: predicted class' });
+    items.push({ kind: 'uncertain', color: cellColor('a', 1), text: 'grey: uncertain prediction' });
+  }
+  return items;
+}
+
+function renderKeys(list, items) {
+  list.replaceChildren();
+  for (const it of items) {
+    const li = document.createElement('li');
+    li.dataset.key = it.kind;
+    let sw;
+    if (it.color) {
+      sw = document.createElement('span');
+      sw.className = 'swatch region-swatch';
+      sw.style.background = `rgb(${it.color.join(',')})`;
+    } else {
+      sw = swatch(it.cat);
+      const ctx = sw.getContext('2d');
+      ctx.clearRect(0, 0, 16, 16);
+      drawMarker(ctx, it.cat, 8, 8, 4.6, 0, it.fade || 0, it.ring || null);
+    }
+    const name = document.createElement('span');
+    name.className = 'legend-name';
+    name.textContent = it.text;
+    li.append(sw, name, document.createElement('span'));
+    list.append(li);
+  }
+}
+
+function summaryHtml(counts, total, phi, places) {
   const labelled = Object.keys(CLASSES).reduce((a, k) => a + (counts[k] || 0), 0);
   const pending = (counts.queued || 0) + (counts.running || 0);
-  return `<b>${total.toLocaleString()}</b> runs at φ = ${phi} · ${labelled} labelled · ${pending} pending`;
+  const shared = total > places ? ` at ${places.toLocaleString()} places (runs at one place are set around it)` : '';
+  return `<b>${total.toLocaleString()}</b> runs${shared} at φ = ${phi} · ${labelled} labelled · ${pending} pending`;
 }
 
 function tooltipHtml(p, cat, numerics) {
@@ -131,14 +223,22 @@ function placeTooltip(tooltip, ev) {
   tooltip.style.top = `${y + window.scrollY}px`;
 }
 
+// The tooltip over the background: the class predicted under the mouse and its uncertainty.
+function regionTipHtml(cell) {
+  const c = CLASSES[cell.cls];
+  const what = c ? `<span class="dot" style="background:${c.color}"></span>${escapeHtml(label(cell.cls))}` : 'no labelled run within reach';
+  return `<div class="tt-head">predicted region</div><table><tr><th>class</th><td>${what}</td></tr><tr><th>uncertainty</th><td>${fixed(cell.u, 2)}</td></tr></table>`;
+}
+
 // For the browser tests and the render benchmark (bench/dashboard).
-function publishRender(root, phi, ms, { drawn, positions, counts, radius }) {
+function publishRender(root, phi, ms, { drawn, positions, counts, radius, markers }, regions) {
   const hook = (window.__dashboard ||= { renders: [] });
   hook.renders.push(ms);
   hook.renderedAt = performance.now();
   hook.phaseMap = {
     phi, count: drawn.length, counts, renderMs: ms, radius,
-    points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1] })),
+    regions: regions ? { grid: regions.data.grid, runs: regions.data.runs, x0: regions.x0, y0: regions.y0, x1: regions.x1, y1: regions.y1 } : null,
+    points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1], fade: markers[i].fade, ring: markers[i].ring })),
   };
   root.dispatchEvent(new CustomEvent('phasemap:rendered', { bubbles: true, detail: { ms, count: drawn.length } }));
 }
@@ -149,22 +249,28 @@ export function mount(root, params) {
     cpu: params.cpu || 'all',
     sweep: params.sweep || '',
     buckling: params.buckling !== '0',
+    regions: params.regions !== '0',
     points: [], signature: '', presets: [], sweeps: [], updated: null, error: null,
+    // The last /phase-map/regions answer, the filters it is for, and what it was read from.
+    regionData: null, regionFor: '', regionKey: '',
   };
   root.innerHTML = pageHtml();
   const $ = (id) => root.querySelector(`#${id}`);
   const plotBox = $('map-plot');
-  const phiSel = $('map-phi'), cpuSel = $('map-cpu'), sweepSel = $('map-sweep'), buck = $('map-buckling');
+  const phiSel = $('map-phi'), cpuSel = $('map-cpu'), sweepSel = $('map-sweep'), buck = $('map-buckling'), regionsBox = $('map-regions');
   buck.checked = state.buckling;
+  regionsBox.checked = state.regions;
   const tooltip = document.getElementById('tooltip');
   let positions = null; // Float32Array [x, y] per drawn point (canvas pixels)
   let drawn = [];
   let plot = null;
+  let figure = null; // what the last render drew, for the export
+  let shownRegions = null;
   let timer = null;
   let alive = true;
 
   function syncUrl() {
-    setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0' });
+    setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0' });
   }
 
   function fillPhiOptions() {
@@ -210,20 +316,58 @@ export function mount(root, params) {
     return pts;
   }
 
+  const regionFilters = () => JSON.stringify([state.phi, state.sweep, state.cpu]);
+
+  // What the regions answer depends on: the filters, the labelled runs and the box's extent.
+  function regionKey() {
+    const pts = visiblePoints();
+    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+    const labels = [];
+    for (const p of pts) {
+      lo = [Math.min(lo[0], p.S), Math.min(lo[1], p.R)]; hi = [Math.max(hi[0], p.S), Math.max(hi[1], p.R)];
+      if (p.class) labels.push([p.job_id, p.state, p.status, p.class, p.confidence, p.runner_up]);
+    }
+    return JSON.stringify([regionFilters(), lo, hi, labels]);
+  }
+
+  // Reads the regions when what they depend on changed (not at every progress heartbeat).
+  async function loadRegions() {
+    if (!state.regions) return;
+    const key = regionKey();
+    if (key === state.regionKey) return;
+    try {
+      const data = await api.regions(state.phi, state.sweep, state.cpu === 'all' ? '' : state.cpu);
+      if (!alive || key !== regionKey()) return; // the filters changed meanwhile
+      state.regionKey = key;
+      state.regionFor = regionFilters();
+      state.regionData = data;
+      render();
+    } catch (e) {
+      state.regionData = null; // no background; the map itself still shows
+      $('map-live').title = `predicted regions: ${e.message}`;
+    }
+  }
+
   function render() {
     const t0 = performance.now();
     const pts = visiblePoints();
     const width = Math.max(560, Math.min(1100, plotBox.clientWidth || 760));
     const height = Math.round(Math.min(width * 0.68, Math.max(480, window.innerHeight - 250)));
-    const xDom = logExtent(pts.map((p) => p.S), [1e-4, 1]);
-    const yDom = logExtent(pts.map((p) => p.R), [1e-6, 1]);
+    const margin = { l: 78, r: 24, t: 18, b: 60 };
+    const r = markerRadius(pts.length);
+    const xDom = fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
+    const yDom = fitMarkers(logExtent(pts.map((p) => p.R), [1e-6, 1]), pts.map((p) => p.R), height - margin.t - margin.b, r);
     plotBox.replaceChildren();
     plot = new Plot(plotBox, {
       width, height, canvas: true, title: `phase map at phi = ${state.phi}`,
-      margin: { l: 78, r: 24, t: 18, b: 60 },
+      margin,
       x: { kind: 'log', domain: xDom, label: 'Mach number S = V / √(E/ρ)' },
       y: { kind: 'log', domain: yDom, label: 'relative strength R = q_{y} / E' },
     });
+    // Until new regions arrive the last ones of the same filters stay (no flicker on updates).
+    const regionData = state.regions && pts.length && state.regionFor === regionFilters() ? state.regionData : null;
+    const drawnRegions = drawRegions(plot, regionData);
+    shownRegions = drawnRegions ? { ...drawnRegions, data: regionData } : null;
     const marks = drawPoints(plot, pts);
     ({ drawn, positions } = marks);
     if (state.buckling) drawBuckling(plot, state.phi);
@@ -237,8 +381,33 @@ export function mount(root, params) {
     plot.canvas.addEventListener('mouseleave', () => { tooltip.hidden = true; plot.canvas.style.cursor = ''; });
     plot.canvas.addEventListener('click', onClick);
     renderLegend($('map-legend'), marks.counts);
-    $('map-summary').innerHTML = summaryHtml(marks.counts, pts.length, state.phi);
-    publishRender(root, state.phi, performance.now() - t0, marks);
+    const keys = keyItems(shownRegions);
+    renderKeys($('map-keys'), keys);
+    $('map-summary').innerHTML = summaryHtml(marks.counts, pts.length, state.phi, marks.places);
+    figure = {
+      plot, markers: marks.markers, regions: shownRegions,
+      legend: [...Object.entries(CLASSES).map(([k, c]) => ({ cat: k, name: `${k} ${c.name}`, count: marks.counts[k] || 0 })),
+        ...Object.entries(STATES).filter(([k]) => marks.counts[k]).map(([k, s]) => ({ cat: k, name: s.name, count: marks.counts[k] })),
+        ...keys.map((k) => ({ cat: k.cat, fade: k.fade, ring: k.ring, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
+      title: `Phase map at phi = ${state.phi}`,
+      note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}`,
+        ...(shownRegions ? [`regions from ${shownRegions.data.runs} labelled runs`] : [])],
+    };
+    publishRender(root, state.phi, performance.now() - t0, marks, shownRegions);
+  }
+
+  function exportName(ext) {
+    const parts = [`phase-map-phi${state.phi}`];
+    if (state.sweep) parts.push(`sweep${state.sweep}`);
+    if (state.cpu !== 'all') parts.push(`cpu${state.cpu}`);
+    return `${parts.join('-')}.${ext}`;
+  }
+
+  async function exportFigure(kind) {
+    if (!figure) return;
+    const svg = mapSvg(figure);
+    if (kind === 'svg') download(new Blob([svgText(svg)], { type: 'image/svg+xml' }), exportName('svg'));
+    else download(await pngBlob(svg), exportName('png'));
   }
 
   function nearest(ev) {
@@ -256,7 +425,15 @@ export function mount(root, params) {
 
   function onMove(ev) {
     const i = nearest(ev);
-    if (i < 0) { tooltip.hidden = true; plot.canvas.style.cursor = ''; return; }
+    if (i < 0) {
+      plot.canvas.style.cursor = '';
+      const rect = plot.canvas.getBoundingClientRect();
+      const cell = shownRegions && cellAt(plot, shownRegions.data, ev.clientX - rect.left, ev.clientY - rect.top);
+      if (!cell) { tooltip.hidden = true; return; }
+      tooltip.innerHTML = regionTipHtml(cell);
+      placeTooltip(tooltip, ev);
+      return;
+    }
     plot.canvas.style.cursor = 'pointer';
     const { p, cat } = drawn[i];
     tooltip.innerHTML = tooltipHtml(p, cat, presetName(p.cells_per_unit));
@@ -296,6 +473,7 @@ export function mount(root, params) {
           render();
         }
         showLive();
+        await loadRegions();
       } catch (e) {
         state.error = e.message;
         showOffline();
@@ -305,9 +483,12 @@ export function mount(root, params) {
   }
 
   phiSel.addEventListener('change', () => { state.phi = Number(phiSel.value); state.signature = ''; syncUrl(); poll(); });
-  cpuSel.addEventListener('change', () => { state.cpu = cpuSel.value; syncUrl(); render(); });
+  cpuSel.addEventListener('change', () => { state.cpu = cpuSel.value; syncUrl(); render(); loadRegions(); });
   sweepSel.addEventListener('change', () => { state.sweep = sweepSel.value; state.signature = ''; syncUrl(); poll(); });
   buck.addEventListener('change', () => { state.buckling = buck.checked; syncUrl(); render(); });
+  regionsBox.addEventListener('change', () => { state.regions = regionsBox.checked; syncUrl(); render(); loadRegions(); });
+  $('map-export-svg').addEventListener('click', () => exportFigure('svg'));
+  $('map-export-png').addEventListener('click', () => exportFigure('png'));
   const onResize = () => { clearTimeout(onResize.t); onResize.t = setTimeout(() => alive && render(), 150); };
   window.addEventListener('resize', onResize);
 

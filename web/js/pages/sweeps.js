@@ -4,7 +4,7 @@
 import { api, submitToken, setSubmitToken } from '../api.js';
 import { validateSweep, validateAdaptive, formFieldOf, ADAPTIVE_DEFAULTS } from '../sweepform.js';
 import { sweepPhis } from '../sweepmath.js';
-import { when, escapeHtml } from '../format.js';
+import { when, escapeHtml, duration } from '../format.js';
 
 const POLL_MS = 2500;
 const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
@@ -76,7 +76,8 @@ function pageHtml() {
             ${field('token', 'Submit token <span class="unit">only if the server was started with one; kept in this browser</span>', `<input id="f-token" name="token" type="password" autocomplete="off" value="${escapeHtml(submitToken())}">`)}
           </details>
           <div class="submit-row">
-            <div class="count" id="job-count" aria-live="polite"></div>
+            <div class="count-box"><div class="count" id="job-count" aria-live="polite"></div>
+              <div class="cost muted small" id="job-cost" aria-live="polite"></div></div>
             <button type="submit" id="submit-sweep" class="primary">Create sweep</button>
           </div>
           <div class="form-message" id="form-message" role="status"></div>
@@ -120,6 +121,28 @@ export function mount(root) {
   let limits = null;
   const mode = () => (form.elements.mode.value === 'adaptive' ? 'adaptive' : 'grid');
 
+  // The server's estimate of a valid form's cost (POST /sweeps/estimate: the cost model and the
+  // workers connected), asked a moment after the last edit; a late answer to an older form is
+  // dropped.
+  let estimateTimer = null, estimateSeq = 0;
+  function estimate(r) {
+    clearTimeout(estimateTimer);
+    const box = $('job-cost');
+    const seq = ++estimateSeq;
+    if (!r.ok) { box.textContent = ''; delete box.dataset.cpuSeconds; return; }
+    estimateTimer = setTimeout(async () => {
+      try {
+        const e = await api.estimateSweep(r.body);
+        if (!alive || seq !== estimateSeq) return;
+        box.dataset.cpuSeconds = String(e.cpu_seconds);
+        box.dataset.workers = String(e.workers);
+        box.innerHTML = costHtml(e);
+      } catch (err) {
+        if (seq === estimateSeq) box.textContent = `no estimate: ${err.message}`;
+      }
+    }, 250);
+  }
+
   function update() {
     if (!limits) {
       $('job-count').innerHTML = '<span class="muted">loading the server\'s limits…</span>';
@@ -140,6 +163,7 @@ export function mount(root) {
       const most = r.errors.budget ? '' : `, at most ${r.budget.toLocaleString()}`;
       cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R</div>${countError}`;
     }
+    estimate(r);
     return r;
   }
 
@@ -250,6 +274,16 @@ export function mount(root) {
 
 // The server's field errors (its details) at the form's fields, the first one per field; the
 // rest (fields the form does not have, or a second error) as text.
+// "about 3.2 CPU-hours; 2 workers connected: done in about 1.6 h (around 14:05)".
+function costHtml(e) {
+  const hours = (s) => `${Number((s / 3600).toPrecision(2)).toLocaleString()} CPU-hour${s === 3600 ? '' : 's'}`;
+  const upTo = e.max_jobs > e.jobs ? `, at most ${hours(e.max_cpu_seconds)} for the budget` : '';
+  const cost = `about <b>${hours(e.cpu_seconds)}</b>${upTo} <span title="cost model: particles × time steps × ${e.ns_per_particle_step} ns per particle-step">(cost model)</span>`;
+  if (!e.workers) return `${cost}; no worker connected (none seen in the last ${e.workers_seen_within_seconds} s)`;
+  const at = new Date(Date.now() + e.finish_seconds * 1000).toLocaleTimeString(undefined, { hour: '2-digit', minute: '2-digit' });
+  return `${cost}; ${e.workers} worker${e.workers === 1 ? '' : 's'} connected: done in about <b>${duration(e.finish_seconds)}</b> (around ${at}), if nothing else is queued`;
+}
+
 function fieldErrors(details) {
   const errs = {};
   const rest = [];
