@@ -1,5 +1,13 @@
 # Records the source revision (git commit, "-dirty" when the tree has changes) at configure
 # time so that every result can name the code that produced it.
+# A tree without .git (an image build, whose context leaves .git out; a tarball) is given its
+# revision: -DCOMPACTION_SOURCE_REVISION=<commit> (docker/Dockerfile passes its build argument
+# SOURCE_REVISION). Without either it is "unknown".
+set(COMPACTION_SOURCE_REVISION "" CACHE STRING
+  "Source revision recorded in the binaries; empty: read from git (\"unknown\" without .git)")
+if(COMPACTION_SOURCE_REVISION)
+  return()
+endif()
 find_package(Git QUIET)
 set(COMPACTION_SOURCE_REVISION "unknown")
 if(GIT_FOUND AND EXISTS ${CMAKE_SOURCE_DIR}/.git)
