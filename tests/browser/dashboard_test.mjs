@@ -83,7 +83,8 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
         const dpr = c.width / c.clientWidth;
         return Array.from(c.getContext('2d').getImageData(Math.round(x * dpr), Math.round(y * dpr), 1, 1).data.slice(0, 3));
       }, p);
-      const want = hexRgb(EXPECTED[p.cat]);
+      // A label is faded towards white by its confidence (p.fade, confidenceFade in classes.js).
+      const want = hexRgb(EXPECTED[p.cat]).map((v) => Math.round(v + (255 - v) * (p.fade || 0)));
       assert.ok(rgb.every((v, i) => Math.abs(v - want[i]) <= 12), `point of run ${p.job_id} (${p.cat}) drawn ${rgb}, expected ${want}`);
     }
     await shot(page, '02-phase-map-done');
