@@ -54,20 +54,26 @@ Voters prepare(const std::vector<adaptive::Labelled>& runs) {
 }
 
 constexpr double kCutoff = kCutoffSigmas * kBandwidthDecades;
+constexpr double kInv2h2 = 1.0 / (2 * kBandwidthDecades * kBandwidthDecades);
+
+// The kernel's factor along one axis at distance d: exp(-d^2 / (2 h^2)). A run's weight is the
+// product of its x and y factors, each computed once per column and once per row of the grid
+// (an exponential per run and cell was most of the answer's time).
+double factor(double d) { return std::exp(-d * d * kInv2h2); }
 
 // The cell rule at (x, y) over the voters [first, last) (those within the cutoff in x; the
-// others are skipped by distance). votes: scratch of classes.size() entries.
+// others are skipped by distance), with their x factors ex[k - first] at x and their y factors
+// ey[k] at y. votes: scratch of classes.size() entries.
 Cell vote(const Voters& v, std::size_t first, std::size_t last, double x, double y,
-          std::vector<double>& votes) {
+          const double* ex, const double* ey, std::vector<double>& votes) {
   std::fill(votes.begin(), votes.end(), 0.0);
   double evidence = 0;
-  const double inv2h2 = 1.0 / (2 * kBandwidthDecades * kBandwidthDecades);
   for (std::size_t k = first; k < last; ++k) {
     const Voter& w = v.list[k];
     const double dx = w.x - x, dy = w.y - y;
     const double d2 = dx * dx + dy * dy;
     if (d2 > kCutoff * kCutoff) continue;
-    const double weight = std::exp(-d2 * inv2h2);
+    const double weight = ex[k - first] * ey[k];
     evidence += weight;
     votes[w.label] += weight * (1 + w.confidence) / 2;
     if (w.runner_up >= 0) votes[w.runner_up] += weight * (1 - w.confidence) / 2;
@@ -147,13 +153,21 @@ Regions predict(const std::vector<adaptive::Labelled>& runs, const Box& box, int
   const Voters v = prepare(runs);
   out.runs = v.list.size();
   out.cells.resize(static_cast<std::size_t>(out.grid) * out.grid);
-  std::vector<double> votes(v.classes.size());
+  const std::size_t n = v.list.size();
+  // The y factor of every run at every row (grid x runs: 20 MB for 256 rows and 10 000 runs).
+  std::vector<double> ey(static_cast<std::size_t>(out.grid) * n);
+  for (int j = 0; j < out.grid; ++j) {
+    for (std::size_t k = 0; k < n; ++k) ey[j * n + k] = factor(v.list[k].y - out.log_R(j));
+  }
+  std::vector<double> votes(v.classes.size()), ex;
   for (int i = 0; i < out.grid; ++i) {
     const double x = out.log_S(i);
     const auto [first, last] = column(v, x);
+    ex.resize(last - first);
+    for (std::size_t k = first; k < last; ++k) ex[k - first] = factor(v.list[k].x - x);
     for (int j = 0; j < out.grid; ++j) {
       out.cells[static_cast<std::size_t>(j) * out.grid + i] =
-          vote(v, first, last, x, out.log_R(j), votes);
+          vote(v, first, last, x, out.log_R(j), ex.data(), ey.data() + j * n, votes);
     }
   }
   return out;
@@ -161,9 +175,11 @@ Regions predict(const std::vector<adaptive::Labelled>& runs, const Box& box, int
 
 Cell predict_at(const std::vector<adaptive::Labelled>& runs, double log_S, double log_R) {
   const Voters v = prepare(runs);
-  std::vector<double> votes(v.classes.size());
+  std::vector<double> votes(v.classes.size()), ex, ey;
   const auto [first, last] = column(v, log_S);
-  return vote(v, first, last, log_S, log_R, votes);
+  for (std::size_t k = first; k < last; ++k) ex.push_back(factor(v.list[k].x - log_S));
+  for (const Voter& w : v.list) ey.push_back(factor(w.y - log_R));
+  return vote(v, first, last, log_S, log_R, ex.data(), ey.data(), votes);
 }
 
 }  // namespace compaction::server::regions

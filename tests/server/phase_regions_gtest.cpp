@@ -188,6 +188,18 @@ TEST(PhaseRegions, the_same_runs_in_any_order_give_the_same_bits) {
   }
 }
 
+TEST(PhaseRegions, a_cell_of_the_grid_is_the_rule_at_its_centre_to_the_bit) {
+  const auto runs = sample(kSlanted, kX0, kX1, kY0, kY1, kStep, 0.6, "e", "b");
+  const Regions r = predict(runs, kIssueBox, 24);
+  for (int i = 0; i < r.grid; i += 5) {
+    for (int j = 0; j < r.grid; j += 3) {
+      const Cell c = predict_at(runs, r.log_S(i), r.log_R(j));
+      EXPECT_EQ(c.cls, r.at(i, j).cls);
+      EXPECT_EQ(std::memcmp(&c.uncertainty, &r.at(i, j).uncertainty, sizeof(double)), 0);
+    }
+  }
+}
+
 TEST(PhaseRegions, the_box_covers_the_points_padded_and_at_least_a_decade_wide) {
   EXPECT_FALSE(box_of({}));
   const auto b = box_of({{1e-3, 1e-5}, {1e-1, 1e-1}, {1e-2, 0.0}});  // R = 0 has no log: skipped
