@@ -4,12 +4,15 @@
 // SceneParams').
 #include "cli_args.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
 #include "command_line.hpp"
+#include "compaction/checkpoint.hpp"
+#include "compaction/number_text.hpp"
 #include "compaction/params_json.hpp"
 
 namespace compaction::cli {
@@ -137,8 +140,14 @@ const char* kNotes =
     "E = q_y / R and V = S sqrt(E / rho): runs with equal S, R and phi give the same\n"
     "dimensionless result whatever rho, nu, q_y and h0 are.\n"
     "Yield: sqrt(3/2 s:s) <= q_y, s the 2D deviator of the Kirchhoff stress.\n\n"
+    "Checkpoints: with --checkpoint FILE the run writes its whole state to FILE (atomically)\n"
+    "every --checkpoint-every seconds of wall time and when SIGTERM/SIGINT stops it;\n"
+    "--resume FILE goes on from such a file and ends with the bits of an uninterrupted run\n"
+    "(same engine version, scene and threads). Format: schema/checkpoint-format.md.\n\n"
     "exit status: 0 bundle written (status ok or unstable), 2 invalid input,\n"
-    "             3 cancelled by SIGINT/SIGTERM (bundle written), 1 other error\n";
+    "             3 cancelled by SIGINT/SIGTERM (bundle written), 1 other error,\n"
+    "             4 the --resume checkpoint is refused (another engine version or scene,\n"
+    "             damaged; the reason on stderr, nothing written)\n";
 
 }  // namespace
 
@@ -183,6 +192,30 @@ std::optional<int> parse(int argc, const char* const* argv, Options& out) {
       "auto (bar on a terminal, else log lines) | bar | log |\n"
       "json (one JSON object per line on stdout) | none",
       "auto");
+  cl.text("--checkpoint", out.checkpoint_file, "FILE",
+          "write checkpoints of the run's whole state to FILE (a temporary file\n"
+          "renamed over it), every --checkpoint-every seconds and on SIGTERM/SIGINT");
+  bool every_given = false;
+  cl.custom(
+      "--checkpoint-every",
+      [&](const std::string& v) {
+        double s;
+        if (!parse_finite_real(v, s)) {
+          throw UsageError{"--checkpoint-every", "expected a finite number, got '" + v + "'"};
+        }
+        if (!kCheckpointEveryRange.contains(s)) {
+          throw UsageError{"--checkpoint-every",
+                           "must be in " + to_string(kCheckpointEveryRange) + ", got " + v};
+        }
+        out.checkpoint_every = s;
+        every_given = true;
+      },
+      "SECONDS",
+      "wall time between checkpoints (0: only on SIGTERM/SIGINT), in " +
+          to_string(kCheckpointEveryRange),
+      text::num(kDefaultCheckpointEvery));
+  cl.text("--resume", out.resume_file, "FILE",
+          "go on from this checkpoint (of the same engine version and scene)");
   for (const SceneFlag& f : kSceneFlags) {
     std::string help = f.help;
     if (f.range) help += ", in " + to_string(*f.range);
@@ -199,6 +232,13 @@ std::optional<int> parse(int argc, const char* const* argv, Options& out) {
     code = cl.fail(flag_of(e.field) + (e.field.empty() ? "" : " (" + e.field + ")"), e.message);
   }
   if (out.out_dir.empty()) code = cl.fail("--out", "required (the bundle's directory)");
+  if (every_given && out.checkpoint_file.empty()) {
+    code = cl.fail("--checkpoint-every", "needs --checkpoint FILE");
+  }
+  if (!every_given) out.checkpoint_every = kDefaultCheckpointEvery;
+  if (!out.resume_file.empty() && !std::filesystem::is_regular_file(out.resume_file)) {
+    code = cl.fail("--resume", "no such file '" + out.resume_file + "'");
+  }
   return code ? std::optional<int>(code) : std::nullopt;
 }
 

@@ -14,7 +14,13 @@ struct Options {
   SceneParams params;
   std::string out_dir;
   ProgressMode progress = ProgressMode::automatic;
+  // Checkpoints (docs/runner.md): where to write them, how often (wall seconds; 0: only when
+  // stopped by SIGTERM/SIGINT), and the checkpoint to resume from (empty: start at t = 0).
+  std::string checkpoint_file;
+  double checkpoint_every = 0.0;
+  std::string resume_file;
 };
+
 
 // Parses argv into `out`. std::nullopt: run; otherwise the exit code (0 after --help or
 // --version, 2 after invalid input, each problem reported on stderr as

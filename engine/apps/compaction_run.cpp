@@ -66,6 +66,32 @@ int main(int argc, char** argv) {
 
   RunControl control;
   control.cancel = &g_cancel;
+  control.checkpoint_file = opt.checkpoint_file;
+  control.checkpoint_every = opt.checkpoint_every;
+  control.resume_file = opt.resume_file;
+  // A checkpoint written or resumed, as a JSON line or a log line.
+  auto report_checkpoint = [&](const char* event, const CheckpointInfo& c) {
+    if (mode == cli::ProgressMode::json) {
+      print_json_line({{"event", event},
+                       {"file", std::string(event) == "checkpoint" ? opt.checkpoint_file
+                                                                   : opt.resume_file},
+                       {"step", c.step},
+                       {"eps", c.eps},
+                       {"bytes", c.bytes},
+                       {"write_seconds", c.write_seconds}});
+    } else {
+      log->info("{} step={} eps={:.5f} bytes={} write={:.3f}s", event, c.step, c.eps, c.bytes,
+                c.write_seconds);
+    }
+  };
+  control.on_checkpoint = [&](const CheckpointInfo& c) { report_checkpoint("checkpoint", c); };
+  control.on_resume = [&](const CheckpointInfo& c) {
+    if (c.threads != p.threads) {
+      log->warn("resuming a checkpoint of {} thread(s) with {}: the result differs in round-off "
+                "from an uninterrupted run", c.threads, p.threads);
+    }
+    report_checkpoint("resumed", c);
+  };
   double next_log = 0.1;
   control.on_progress = [&](const Progress& pr) {
     switch (mode) {
@@ -108,6 +134,9 @@ int main(int argc, char** argv) {
                        {"out", opt.out_dir}});
     }
     return r.status == RunStatus::cancelled ? 3 : 0;
+  } catch (const CheckpointRefused& e) {
+    std::cerr << "compaction-run: --resume: " << e.what() << '\n';
+    return 4;
   } catch (const std::exception& e) {
     std::cerr << "compaction-run: " << e.what() << '\n';
     return 1;

@@ -19,6 +19,11 @@ class FrameRecorder {
   // accumulators of the particles (plastic increments) and of the clock (plate impulses).
   void record(State& s, double eps_begin, double eps_end, RunResult& out);
 
+  // How many of the scene's snapshot strains the frames recorded so far have passed (a
+  // checkpoint keeps it; a resumed run's recorder goes on from it).
+  std::size_t snapshots_passed() const { return next_snapshot_; }
+  void resume_snapshots(std::size_t passed) { next_snapshot_ = passed; }
+
  private:
   struct ParticleTotals {
     double kinetic = 0.0;  // sum of |v|^2 (times m/2: the kinetic energy)

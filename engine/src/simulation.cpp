@@ -1,11 +1,13 @@
-// The run loop: build the scene, step until the imposed strain reaches eps_end (frames fall on
-// exact multiples of d_eps), record each frame, check stability, report progress.
+// The run loop: build the scene (or restore a checkpoint over it), step until the imposed strain
+// reaches eps_end (frames fall on exact multiples of d_eps), record each frame, check
+// stability, report progress, write checkpoints between steps when they fall due.
 #include "compaction/simulation.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "checkpoint.hpp"
 #include "diagnostics.hpp"
 #include "scene_builder.hpp"
 #include "stability.hpp"
@@ -63,6 +65,12 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   FrameRecorder recorder(p, s);
 
   RunResult r = start_result(p, s);
+  RunPosition at;  // where the loop stands; a resumed run takes it from the checkpoint
+  if (!control.resume_file.empty()) {
+    const CheckpointInfo resumed = restore_checkpoint(control.resume_file, p, s, r, at);
+    recorder.resume_snapshots(at.snapshots_passed);
+    if (control.on_resume) control.on_resume(resumed);
+  }
 
   const double V = s.setup.V, h0 = p.h0;
   const double eps_end = p.eps_final();
@@ -76,10 +84,29 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   };
 
   const auto t_loop = std::chrono::steady_clock::now();
-  int frame = 0;
-  double eps_frame_begin = 0.0;
+  auto last_checkpoint = t_loop;
+  // Between two steps: the state a checkpoint holds (it changes nothing of the run).
+  auto checkpoint = [&] {
+    at.snapshots_passed = recorder.snapshots_passed();
+    RunPosition saved = at;
+    saved.wall_seconds += seconds_since(t0);
+    saved.loop_seconds += seconds_since(t_loop);
+    const CheckpointInfo info = write_checkpoint(control.checkpoint_file, p, s, r, saved);
+    last_checkpoint = std::chrono::steady_clock::now();
+    if (control.on_checkpoint) control.on_checkpoint(info);
+  };
   while (true) {
-    const double eps_frame_end = std::min(eps_end, (frame + 1) * p.d_eps);
+    const bool cancelled = control.cancel && control.cancel->load(std::memory_order_relaxed);
+    if (!control.checkpoint_file.empty() &&
+        (cancelled || (control.checkpoint_every > 0 &&
+                       seconds_since(last_checkpoint) >= control.checkpoint_every))) {
+      checkpoint();
+    }
+    if (cancelled) {
+      stop(RunStatus::cancelled, "cancelled on request");
+      break;
+    }
+    const double eps_frame_end = std::min(eps_end, (at.frame + 1) * p.d_eps);
     const double t_frame_end = std::min(t_end, eps_frame_end * h0 / V);
     double dt = stable_dt(s, p.cfl);
     const bool closes_frame = s.clock.t + dt >= t_frame_end;
@@ -92,10 +119,6 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
       stop(RunStatus::unstable, why);
       break;
     }
-    if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
-      stop(RunStatus::cancelled, "cancelled on request");
-      break;
-    }
     if (s.clock.step > max_steps) {
       stop(RunStatus::unstable, "time step collapsed: step limit reached");
       break;
@@ -103,30 +126,30 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
     if (!closes_frame) continue;
 
     const auto td = std::chrono::steady_clock::now();
-    recorder.record(s, eps_frame_begin, eps_frame_end, r);
+    recorder.record(s, at.eps_frame_begin, eps_frame_end, r);
     r.stage_seconds.diagnostics += seconds_since(td);
     r.eps_reached = eps_frame_end;
     if (std::string why = check_frame(s, r.frames.back()); !why.empty()) {
       const Frame& f = r.frames.back();
       if (!std::isfinite(f.sigma_top + f.sigma_bottom + f.kinetic_energy)) {
         drop_last_frame(r);  // the last finite frame is the last one kept
-        r.eps_reached = eps_frame_begin;
+        r.eps_reached = at.eps_frame_begin;
       }
       stop(RunStatus::unstable, why);
       break;
     }
     if (control.on_progress) {
-      control.on_progress({eps_frame_end, eps_end, s.clock.step, seconds_since(t0)});
+      control.on_progress({eps_frame_end, eps_end, s.clock.step, at.wall_seconds + seconds_since(t0)});
     }
-    eps_frame_begin = eps_frame_end;
-    ++frame;
+    at.eps_frame_begin = eps_frame_end;
+    ++at.frame;
     if (eps_frame_end >= eps_end) break;
   }
 
   r.steps = s.clock.step;
   r.dt_mean = r.steps ? s.clock.t / r.steps : 0.0;
-  r.wall_seconds = seconds_since(t0);
-  const double loop_seconds = seconds_since(t_loop);
+  r.wall_seconds = at.wall_seconds + seconds_since(t0);
+  const double loop_seconds = at.loop_seconds + seconds_since(t_loop);
   r.ns_per_particle_step =
       r.steps && s.particles.n ? 1e9 * loop_seconds / (static_cast<double>(r.steps) * s.particles.n)
                                : 0.0;

@@ -1,0 +1,233 @@
+// Checkpoints: a run stopped and resumed from its checkpoint ends with the bits of an
+// uninterrupted run (every output: frames, both maps, snapshots, counts), whether it stopped
+// at a frame's end or within a frame, once or twice; a checkpoint of another scene, of another
+// engine version, damaged or not a checkpoint at all is refused with a reason. Exact: the
+// resumed run must repeat the same floating-point operations on the same bits.
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <unistd.h>
+
+#include "compaction/checkpoint.hpp"
+#include "compaction/simulation.hpp"
+
+namespace compaction {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Small, with a perturbation (the seeded offsets are restored, not rebuilt) and two snapshots,
+// one before and one after the stops below. 10 frames, a few hundred steps.
+SceneParams small_scene() {
+  SceneParams p;
+  p.S = 0.05, p.R = 1e-3, p.phi = 0.4, p.cells_per_unit = 6, p.eps_end = 0.02;
+  p.perturbation = 0.05, p.seed = 7, p.snapshot_eps = {0.005, 0.015};
+  return p;
+}
+
+class CheckpointGtest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("checkpoint_gtest_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+void expect_same_maps(const SpaceTimeMap& a, const SpaceTimeMap& b) {
+  EXPECT_EQ(a.n_rows, b.n_rows);
+  EXPECT_EQ(a.n_frames, b.n_frames);
+  EXPECT_EQ(a.row_height, b.row_height);
+  EXPECT_TRUE(a.values == b.values);
+}
+
+// Every output bit but the wall times.
+void expect_same_result(const RunResult& a, const RunResult& b) {
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.reason, b.reason);
+  EXPECT_EQ(a.failed_step, b.failed_step);
+  EXPECT_EQ(a.n_particles, b.n_particles);
+  EXPECT_EQ(a.grid_nx, b.grid_nx);
+  EXPECT_EQ(a.grid_ny, b.grid_ny);
+  EXPECT_EQ(a.dx, b.dx);
+  EXPECT_EQ(a.phi_discrete, b.phi_discrete);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(std::memcmp(&a.dt_mean, &b.dt_mean, sizeof(double)), 0);
+  EXPECT_EQ(a.eps_reached, b.eps_reached);
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (std::size_t i = 0; i < a.frames.size(); ++i) {
+    EXPECT_EQ(std::memcmp(&a.frames[i], &b.frames[i], sizeof(Frame)), 0) << "frame " << i;
+  }
+  expect_same_maps(a.spacetime, b.spacetime);
+  expect_same_maps(a.velocity, b.velocity);
+  ASSERT_EQ(a.snapshots.size(), b.snapshots.size());
+  for (std::size_t i = 0; i < a.snapshots.size(); ++i) {
+    const Snapshot &x = a.snapshots[i], &y = b.snapshots[i];
+    EXPECT_EQ(x.eps, y.eps);
+    EXPECT_TRUE(x.x == y.x && x.y == y.y) << "snapshot " << i;
+    EXPECT_TRUE(x.strain_rate == y.strain_rate && x.plastic_strain == y.plastic_strain &&
+                x.jacobian == y.jacobian)
+        << "snapshot " << i;
+  }
+}
+
+// Runs from `resume` (or from the start) until the frame `stop_after_frame` closes, when a
+// cancel stops it and the runner writes its checkpoint to `checkpoint`.
+RunResult run_until_frame(const SceneParams& p, int stop_after_frame, const std::string& resume,
+                          const std::string& checkpoint) {
+  std::atomic<bool> cancel{false};
+  RunControl c;
+  c.cancel = &cancel;
+  c.resume_file = resume;
+  c.checkpoint_file = checkpoint;
+  c.on_progress = [&](const Progress& pr) {
+    if (pr.eps >= stop_after_frame * p.d_eps - 1e-12) cancel = true;
+  };
+  return run_scene(p, c);
+}
+
+RunResult resume_to_end(const SceneParams& p, const std::string& resume) {
+  RunControl c;
+  c.resume_file = resume;
+  return run_scene(p, c);
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// Sets the CRC-32 trailer of an edited checkpoint, so that only the edit is wrong.
+void reseal(std::string& bytes) {
+  const std::size_t end = bytes.size() - 4;
+  const auto crc = static_cast<std::uint32_t>(
+      crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(bytes.data()),
+            static_cast<uInt>(end)));
+  std::memcpy(bytes.data() + end, &crc, 4);
+}
+
+TEST_F(CheckpointGtest, RunStoppedTwiceAndResumedGivesTheBitsOfAnUninterruptedRun) {
+  const SceneParams p = small_scene();
+  const RunResult whole = run_scene(p);
+  ASSERT_EQ(whole.status, RunStatus::ok) << whole.reason;
+  ASSERT_EQ(whole.snapshots.size(), 2u);
+
+  const RunResult first = run_until_frame(p, 3, "", path("a.ckpt"));
+  ASSERT_EQ(first.status, RunStatus::cancelled);
+  const CheckpointInfo at_a = read_checkpoint_info(path("a.ckpt"));
+  EXPECT_EQ(at_a.frames, 3);
+  EXPECT_EQ(at_a.step, first.steps);
+  EXPECT_EQ(at_a.engine_version, engine_version());
+
+  const RunResult second = run_until_frame(p, 6, path("a.ckpt"), path("b.ckpt"));
+  ASSERT_EQ(second.status, RunStatus::cancelled);
+  EXPECT_EQ(read_checkpoint_info(path("b.ckpt")).frames, 6);
+  EXPECT_EQ(second.snapshots.size(), 1u);  // the one at 0.005, restored from a.ckpt
+
+  expect_same_result(whole, resume_to_end(p, path("b.ckpt")));
+}
+
+TEST_F(CheckpointGtest, RunResumedFromWithinAFrameGivesTheBitsOfAnUninterruptedRun) {
+  const SceneParams p = small_scene();
+  const RunResult whole = run_scene(p);
+  ASSERT_EQ(whole.status, RunStatus::ok) << whole.reason;
+
+  // A checkpoint before every step; keep one taken after a step that did not close a frame
+  // (its plastic increments and plate impulses are half a frame's), past the first snapshot.
+  RunControl c;
+  c.checkpoint_file = path("every.ckpt");
+  c.checkpoint_every = 1e-12;
+  std::int64_t last_frames = -1, kept_step = -1;
+  c.on_checkpoint = [&](const CheckpointInfo& info) {
+    if (kept_step < 0 && info.eps > 0.007 && info.frames == last_frames) {
+      fs::copy_file(path("every.ckpt"), path("mid.ckpt"));
+      kept_step = info.step;
+    }
+    last_frames = info.frames;
+  };
+  expect_same_result(whole, run_scene(p, c));  // writing checkpoints changes nothing
+  ASSERT_GT(kept_step, 0);
+  const CheckpointInfo mid = read_checkpoint_info(path("mid.ckpt"));
+  EXPECT_EQ(mid.step, kept_step);
+  EXPECT_GT(mid.eps, mid.frames * p.d_eps);  // within a frame
+
+  expect_same_result(whole, resume_to_end(p, path("mid.ckpt")));
+}
+
+TEST_F(CheckpointGtest, CheckpointOfAnotherSceneIsRefusedNamingTheField) {
+  SceneParams p = small_scene();
+  run_until_frame(p, 2, "", path("a.ckpt"));
+  p.S = 0.04;
+  try {
+    resume_to_end(p, path("a.ckpt"));
+    FAIL() << "a checkpoint of another scene was resumed";
+  } catch (const CheckpointRefused& e) {
+    EXPECT_STREQ(e.what(), "the checkpoint is of another scene: S is 0.05 there and 0.04 here");
+  }
+  p = small_scene();
+  p.threads = 2;  // the thread count is not part of the scene's identity
+  EXPECT_EQ(resume_to_end(p, path("a.ckpt")).status, RunStatus::ok);
+}
+
+TEST_F(CheckpointGtest, CheckpointOfAnotherEngineVersionIsRefused) {
+  const SceneParams p = small_scene();
+  run_until_frame(p, 2, "", path("a.ckpt"));
+  std::string bytes = read_bytes(path("a.ckpt"));
+  const std::string ours = std::string("\"engine_version\":\"") + engine_version() + "\"";
+  const std::size_t at = bytes.find(ours);
+  ASSERT_NE(at, std::string::npos);
+  std::string other = ours;
+  other[other.size() - 2] = other[other.size() - 2] == '9' ? '8' : '9';  // last digit
+  bytes.replace(at, ours.size(), other);
+  reseal(bytes);
+  write_bytes(path("other.ckpt"), bytes);
+  try {
+    resume_to_end(p, path("other.ckpt"));
+    FAIL() << "a checkpoint of another engine version was resumed";
+  } catch (const CheckpointRefused& e) {
+    EXPECT_NE(std::string(e.what()).find("the checkpoint was written by engine "),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(CheckpointGtest, DamagedTruncatedOrForeignFilesAreRefused) {
+  const SceneParams p = small_scene();
+  run_until_frame(p, 2, "", path("a.ckpt"));
+  const std::string bytes = read_bytes(path("a.ckpt"));
+  const auto refused_with = [&](const std::string& contents, const std::string& expected) {
+    write_bytes(path("bad.ckpt"), contents);
+    try {
+      resume_to_end(p, path("bad.ckpt"));
+      ADD_FAILURE() << "resumed a file that should be refused (" << expected << ")";
+    } catch (const CheckpointRefused& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x01;  // one bit of a particle array
+  refused_with(flipped, "checksum does not match");
+  refused_with(bytes.substr(0, bytes.size() / 2), "checksum does not match");
+  refused_with("{\"S\": 0.05}", "is not a compaction checkpoint");
+  std::string truncated = bytes.substr(0, bytes.size() - 1000);
+  truncated.append(4, '\0');
+  reseal(truncated);  // a consistent checksum over sections that end early
+  refused_with(truncated, "truncated");
+}
+
+}  // namespace
+}  // namespace compaction
