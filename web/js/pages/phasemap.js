@@ -54,14 +54,17 @@ function pageHtml() {
 // circle of SPREAD radii, the coarsest grid first at the top, so none hides another.
 const SPREAD = 1.15;
 function placeOffsets(pts, r) {
-  const groups = new Map();
+  const bySR = new Map(); // S -> R -> the runs there
+  let places = 0;
   for (const p of pts) {
-    const key = `${p.S}|${p.R}`;
-    if (!groups.has(key)) groups.set(key, []);
-    groups.get(key).push(p);
+    let byR = bySR.get(p.S);
+    if (!byR) bySR.set(p.S, (byR = new Map()));
+    const g = byR.get(p.R);
+    if (g) g.push(p);
+    else { byR.set(p.R, [p]); places++; }
   }
   const off = new Map();
-  for (const g of groups.values()) {
+  for (const byR of bySR.values()) for (const g of byR.values()) {
     if (g.length < 2) continue;
     g.sort((a, b) => a.cells_per_unit - b.cells_per_unit || a.job_id - b.job_id);
     g.forEach((p, k) => {
@@ -69,7 +72,7 @@ function placeOffsets(pts, r) {
       off.set(p, [SPREAD * r * Math.cos(a), SPREAD * r * Math.sin(a)]);
     });
   }
-  return { off, places: groups.size };
+  return { off, places };
 }
 
 // Markers of the visible points in a stable draw order (categories by ORDER, classes last; finer
