@@ -20,7 +20,13 @@ void split_jobs(const std::vector<JobRecord>& jobs, std::vector<adaptive::Labell
       continue;
     }
     adaptive::Labelled l{pt, std::nullopt, 0.0, std::nullopt};
-    if (j.state == "succeeded" && j.result) {
+    if (j.state == "succeeded" && j.human_label) {
+      // A person's label overrides the classifier's: it is certain, and the classifier's label
+      // becomes the runner-up where they differ.
+      l.label = j.human_label->label;
+      l.confidence = 1.0;
+      l.runner_up = j.result ? j.result->cls : std::nullopt;
+    } else if (j.state == "succeeded" && j.result) {
       l.label = j.result->cls;  // none for an unstable or unclassified run
       l.confidence = j.result->confidence.value_or(0.0);
       l.runner_up = j.result->runner_up;

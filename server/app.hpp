@@ -37,6 +37,8 @@ void register_sweep_routes(httplib::Server& server, App& app);
 void register_job_routes(httplib::Server& server, App& app);
 void register_queue_routes(httplib::Server& server, App& app);
 void register_service_routes(httplib::Server& server, App& app);
+void register_label_routes(httplib::Server& server, App& app);
+void register_import_routes(httplib::Server& server, App& app);
 
 // Everything above plus error handling and logging: the whole API on one server.
 void register_all_routes(httplib::Server& server, App& app);

@@ -14,7 +14,7 @@ const std::vector<std::pair<const Endpoint*, std::regex>>& table() {
     for (const Endpoint* e :
          {&create_sweep, &list_sweeps, &show_sweep, &cancel_sweep, &export_sweep, &estimate_sweep,
           &list_jobs, &show_job, &list_artifacts, &artifact, &phase_map, &phase_regions, &lease,
-          &heartbeat, &complete, &fail, &release, &health, &metrics, &api_metrics, &openapi,
+          &heartbeat, &complete, &fail, &release, &put_checkpoint, &get_checkpoint, &health, &metrics, &api_metrics, &openapi,
           &presets, &limits}) {
       out.emplace_back(e, std::regex(e->pattern));
     }

@@ -55,6 +55,8 @@ inline constexpr Endpoint heartbeat     {"POST", R"(/api/v1/jobs/(\d+)/heartbeat
 inline constexpr Endpoint complete      {"POST", R"(/api/v1/jobs/(\d+)/complete)",      TokenKind::worker, BodyKind::multipart, upload_body_bytes};
 inline constexpr Endpoint fail          {"POST", R"(/api/v1/jobs/(\d+)/fail)",          TokenKind::worker, BodyKind::json,      small_body_bytes};
 inline constexpr Endpoint release       {"POST", R"(/api/v1/jobs/(\d+)/release)",       TokenKind::worker, BodyKind::json,      small_body_bytes};
+inline constexpr Endpoint put_checkpoint{"POST", R"(/api/v1/jobs/(\d+)/checkpoint)",    TokenKind::worker, BodyKind::multipart, upload_body_bytes};
+inline constexpr Endpoint get_checkpoint{"GET",  R"(/api/v1/jobs/(\d+)/checkpoint)",    TokenKind::worker, BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint health        {"GET",  "/api/v1/health",                      TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint metrics       {"GET",  "/metrics",                            TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint api_metrics   {"GET",  "/api/v1/metrics",                     TokenKind::none,   BodyKind::none,      no_body_bytes};

@@ -17,6 +17,7 @@
 #include "app.hpp"
 #include "http_server.hpp"
 #include "compaction/result.hpp"
+#include "import_command.hpp"
 #include "lease_rescuer.hpp"
 #include "options.hpp"
 
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   if (!options) return exit_code;
   spdlog::set_level(spdlog::level::from_str(options->log_level));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ server: %v");
+  if (!options->import_file.empty()) return run_import(*options, options->import_file);
 
   // Signals go to a dedicated thread (sigwait), never into the middle of a handler. A handler
   // is installed first: a signal ignored at start (a background job of a script) would

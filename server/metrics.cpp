@@ -72,7 +72,7 @@ std::string render_metrics(const ScrapeMetrics& scrape, const RequestCounters& r
   o << "# HELP compaction_job_events_total Job events by kind.\n"
        "# TYPE compaction_job_events_total counter\n";
   for (const char* k : {"queued", "leased", "released", "lease_expired", "failed", "retry",
-                        "succeeded", "cancelled"}) {
+                        "succeeded", "cancelled", "checkpoint", "resumed"}) {
     o << "compaction_job_events_total{kind=\"" << k << "\"} " << lookup(m.events_by_kind, k)
       << "\n";
   }

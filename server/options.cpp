@@ -67,6 +67,10 @@ cli::CommandLine command_line(ServerOptions& o) {
   cl.real("--request-timeout", o.request_timeout_seconds, {1, 86400}, "S",
           "longest exchange of one request, body and answer, seconds;\n"
           "headers must arrive within 10 s, a silence of 10 s ends a request");
+  cl.text("--import", o.import_file, "FILE",
+          "merge the sweep export FILE (GET /api/v1/sweeps/ID/export?format=archive\n"
+          "of another server) into --db and exit; run it with that database's\n"
+          "server stopped, or POST the file to /api/v1/imports instead");
   cl.choice("--log-level", o.log_level, {"trace", "debug", "info", "warn", "error"}, "LEVEL",
             "log level");
   cl.notes("API: /api/v1 (OpenAPI at /api/v1/openapi.yaml), metrics at /metrics, dashboard at /.\n");

@@ -23,6 +23,7 @@ struct ServerOptions {
   int http_threads = 128;                   // connections served at once (threads start on demand)
   double request_timeout_seconds = 300;     // one request, body and answer included
   std::string log_level = "info";
+  std::string import_file;                  // --import: merge this export file into --db and exit
 };
 
 // Parses argv (environment: COMPACTION_SUBMIT_TOKEN, COMPACTION_WORKER_TOKEN) with the

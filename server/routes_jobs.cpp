@@ -2,6 +2,7 @@
 // labels predict. The list, the map and the regions are the answers clients poll: served
 // through the answer cache (ETag, If-None-Match).
 #include "app.hpp"
+#include "checkpoint_routes.hpp"
 
 #include "compaction/params.hpp"
 #include "endpoints.hpp"
@@ -75,7 +76,9 @@ void register_job_routes(httplib::Server& server, App& app) {
              [&app](const httplib::Request& req, httplib::Response& res) {
                const auto j = app.store.reads.job(path_id(req, 1, "job"));
                if (!j) throw ApiError(404, "id", "no such job");
-               send_json(res, 200, views::job_detail(*j));
+               json out = views::job_detail(*j);
+               add_checkpoint_detail(app, j->job.id, out);
+               send_json(res, 200, out);
              });
 
   add_route(server, endpoints::list_artifacts,

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "app.hpp"
+#include "checkpoint_routes.hpp"
 #include "clock.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
@@ -51,7 +52,9 @@ void lease(App& app, const httplib::Request& req, httplib::Response& res) {
              {"lease_seconds", app.options.lease_seconds},
              {"attempt", lease->attempt},
              {"max_attempts", lease->max_attempts},
-             {"scene", json::parse(lease->scene)}});
+             {"scene", json::parse(lease->scene)},
+             // the run's checkpoint when an earlier lease uploaded one: go on from it
+             {"checkpoint", checkpoint_of(app, lease->job_id)}});
 }
 
 void heartbeat(App& app, const httplib::Request& req, httplib::Response& res) {
@@ -67,11 +70,17 @@ void heartbeat(App& app, const httplib::Request& req, httplib::Response& res) {
     }
     eps = e.get<double>();
   }
+  const std::optional<ResumeReport> resumed = parse_resume_report(body);
   Millis deadline = 0;
   std::string worker;
   const Millis now = now_ms();
   check_lease(app.store.queue.heartbeat(id, token, eps, now, deadline, &worker));
   app.workers.seen(worker, now);
+  if (resumed) {
+    check_lease(app.store.checkpoints.record_resume(id, token, resumed->step, resumed->eps, now));
+    spdlog::info("job resumed id={} worker={} step={} eps={:.6g}", id, log_escape(worker),
+                 resumed->step, resumed->eps);
+  }
   send_json(res, 200, {{"lease_deadline", deadline}});
 }
 
@@ -97,6 +106,7 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   check_lease(app.store.queue.complete(id, token, r, now_ms()));
   spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
                r.cls.value_or("-"), r.artifacts.size());
+  app.store.checkpoints.remove_if_done(id);
   app.adaptive.job_ended(app.store, app.limits, id, now_ms());
   send_json(res, 200, {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}});
 }
@@ -115,7 +125,10 @@ void fail(App& app, const httplib::Request& req, httplib::Response& res) {
   check_lease(out.check);
   spdlog::warn("job failed id={} retryable={} now={} reason=\"{}\"", id, retryable,
                to_string(out.state), log_escape(reason, 500));
-  if (out.state == JobState::failed) app.adaptive.job_ended(app.store, app.limits, id, now_ms());
+  if (out.state == JobState::failed) {
+    app.store.checkpoints.remove_if_done(id);
+    app.adaptive.job_ended(app.store, app.limits, id, now_ms());
+  }
   send_json(res, 200, {{"job_id", id}, {"state", to_string(out.state)}, {"run_after", out.run_after}});
 }
 

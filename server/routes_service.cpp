@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "app.hpp"
+#include "checkpoint_routes.hpp"
 #include "clock.hpp"
 #include "compaction/result.hpp"
 #include "endpoints.hpp"
@@ -101,6 +102,7 @@ void register_all_routes(httplib::Server& server, App& app) {
   register_sweep_routes(server, app);
   register_job_routes(server, app);
   register_queue_routes(server, app);
+  register_checkpoint_routes(server, app);
   register_service_routes(server, app);
 
   // Unknown paths and methods: a JSON error (the handlers' own errors already have a body).

@@ -8,6 +8,7 @@
 #include "clock.hpp"
 #include "cost_model.hpp"
 #include "endpoints.hpp"
+#include "export_format.hpp"
 #include "http_util.hpp"
 #include "safe_text.hpp"
 #include "views.hpp"
@@ -36,9 +37,12 @@ std::string export_csv(const json& rows) {
   static const char* result_keys[] = {"status", "reason", "class", "confidence", "runner_up",
                                       "n_reflections", "band_speed_ratio", "eps_reached",
                                       "wall_seconds", "engine_version", "source_revision"};
+  // A person's label beside the classifier's "class" (empty when nobody set one).
+  static const char* human_keys[] = {"label", "reason", "by", "at"};
   std::ostringstream out;
   out << "job_id,S,R,phi,cells_per_unit,eps_end,state,attempts,last_error";
   for (const char* k : result_keys) out << ',' << k;
+  for (const char* k : human_keys) out << ",human_" << k;
   out << ",scene\n";
   for (const json& row : rows) {
     bool first = true;
@@ -48,6 +52,8 @@ std::string export_csv(const json& rows) {
     }
     const json& r = row["result"];
     for (const char* k : result_keys) out << ',' << (r.is_null() ? "" : csv_field(r[k]));
+    const json& h = row["human_label"];
+    for (const char* k : human_keys) out << ',' << (h.is_null() ? "" : csv_field(h[k]));
     out << ',' << csv_field(row["scene"].dump()) << '\n';
   }
   return out.str();
@@ -124,8 +130,17 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                const std::int64_t id = path_id(req, 1, "sweep");
                const std::string format =
                    req.has_param("format") ? req.get_param_value("format") : "json";
-               if (format != "json" && format != "csv") {
-                 throw ApiError(422, "format", "must be \"json\" or \"csv\"");
+               if (format != "json" && format != "csv" && format != "archive") {
+                 throw ApiError(422, "format", "must be \"json\", \"csv\" or \"archive\"");
+               }
+               if (format == "archive") {  // the file another server imports (export_format.hpp)
+                 const auto file = export_sweep(app.store, id, req.get_header_value("Host"), now_ms());
+                 if (!file) throw ApiError(404, "id", "no such sweep");
+                 res.set_header("Content-Disposition",
+                                "attachment; filename=\"sweep-" + std::to_string(id) + ".export.json\"");
+                 res.status = 200;
+                 res.set_content(*file, "application/json");
+                 return;
                }
                const auto sweep = app.store.reads.sweep(id);
                const auto rows = app.store.reads.sweep_jobs(id);

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "checkpoint_store.hpp"
 #include "queue_store.hpp"
 #include "store_db.hpp"
 #include "store_reads.hpp"
@@ -16,7 +17,8 @@ namespace compaction::server {
 struct Store {
   // Opens the database and applies the pending migrations.
   Store(const std::string& path, StoreConfig config)
-      : db(path, std::move(config)), queue(db), sweeps(db), reads(db) {}
+      : db(path, std::move(config)), queue(db), sweeps(db), reads(db),
+        checkpoints(db, path + ".checkpoints") {}
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
@@ -26,6 +28,7 @@ struct Store {
   QueueStore queue;
   SweepStore sweeps;
   StoreReads reads;
+  CheckpointStore checkpoints;  // checkpoints of runs and their resumes
 };
 
 }  // namespace compaction::server

@@ -11,7 +11,13 @@ constexpr const char* job_columns =
     " j.started_at, j.heartbeat_at, j.finished_at, j.run_after, j.lease_deadline, j.last_error,"
     " r.status, r.reason, r.class, r.confidence, r.runner_up, r.n_reflections,"
     " r.band_speed_ratio, r.features, r.engine_version, r.source_revision, r.eps_reached,"
-    " r.wall_seconds, r.worker, r.created_at";
+    " r.wall_seconds, r.worker, r.created_at, r.origin_database, r.origin_job, r.imported_at,"
+    " h.label, h.reason, h.set_by, h.set_at";
+
+// What job_columns reads beside the job j: its result and its human label.
+constexpr const char* result_joins =
+    " LEFT JOIN results r ON r.job_id = j.id LEFT JOIN human_labels h ON h.job_id = j.id";
+const std::string job_tables = std::string(" jobs j") + result_joins;
 
 JobRecord read_job(sqlite::Statement& s) {
   JobRecord j;
@@ -52,8 +58,12 @@ JobRecord read_job(sqlite::Statement& s) {
     r.wall_seconds = s.opt_real(32);
     r.worker = s.text(33);
     r.created_at = s.int64(34);
+    r.origin_database = s.opt_text(35);
+    r.origin_job = s.opt_int64(36);
+    r.imported_at = s.opt_int64(37);
     j.result = std::move(r);
   }
+  if (!s.is_null(38)) j.human_label = HumanLabel{s.text(38), s.text(39), s.text(40), s.int64(41)};
   return j;
 }
 
@@ -78,8 +88,8 @@ StateCounts counts_of_sweep(sqlite::Database& db, std::int64_t id) {
   return c;
 }
 
-// columns: id, name, request, priority, created_at, cancelled_at
-constexpr const char* sweep_columns = "id, name, request, priority, created_at, cancelled_at";
+constexpr const char* sweep_columns =
+    "id, name, request, priority, created_at, cancelled_at, origin_database, origin_sweep, origin";
 
 SweepRecord read_sweep(sqlite::Statement& s, sqlite::Database& db) {
   SweepRecord r;
@@ -89,6 +99,9 @@ SweepRecord read_sweep(sqlite::Statement& s, sqlite::Database& db) {
   r.priority = s.int64(3);
   r.created_at = s.int64(4);
   r.cancelled_at = s.opt_int64(5);
+  r.origin_database = s.opt_text(6);
+  r.origin_sweep = s.opt_int64(7);
+  r.origin = s.opt_text(8);
   r.counts = counts_of_sweep(db, r.id);
   return r;
 }
@@ -129,7 +142,7 @@ std::vector<std::int64_t> StoreReads::live_adaptive_sweeps() {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
-      "SELECT id FROM sweeps WHERE cancelled_at IS NULL"
+      "SELECT id FROM sweeps WHERE cancelled_at IS NULL AND origin_database IS NULL"
       " AND json_extract(request, '$.adaptive') IS NOT NULL ORDER BY id");
   std::vector<std::int64_t> out;
   while (s.step()) out.push_back(s.int64(0));
@@ -141,7 +154,7 @@ std::vector<std::int64_t> StoreReads::live_adaptive_sweeps_of_job(std::int64_t j
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
       "SELECT s.id FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id"
-      " WHERE sj.job_id = ? AND s.cancelled_at IS NULL"
+      " WHERE sj.job_id = ? AND s.cancelled_at IS NULL AND s.origin_database IS NULL"
       " AND json_extract(s.request, '$.adaptive') IS NOT NULL ORDER BY s.id");
   s.bind(1, job_id);
   std::vector<std::int64_t> out;
@@ -154,8 +167,7 @@ std::optional<std::vector<JobRecord>> StoreReads::sweep_jobs(std::int64_t id) {
   sqlite::ReadTransaction read(*db);
   if (!db->has_row("SELECT 1 FROM sweeps WHERE id = ?", id)) return std::nullopt;
   auto s = db->prepare(std::string("SELECT ") + job_columns +
-                       " FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
-                       " LEFT JOIN results r ON r.job_id = j.id"
+                       " FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id" + result_joins +
                        " WHERE sj.sweep_id = ? ORDER BY sj.position");
   s.bind(1, id);
   std::vector<JobRecord> rows;
@@ -179,8 +191,7 @@ Page<JobRecord> StoreReads::jobs(const JobFilter& f) {
     }
     s.bind(3, f.phi);
   };
-  auto s = db->prepare(std::string("SELECT ") + job_columns +
-                       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id" + where +
+  auto s = db->prepare(std::string("SELECT ") + job_columns + " FROM" + job_tables + where +
                        " ORDER BY j.id LIMIT ?4 OFFSET ?5");
   bind_filters(s);
   s.bind(4, f.limit).bind(5, f.offset);
@@ -196,8 +207,8 @@ Page<JobRecord> StoreReads::jobs(const JobFilter& f) {
 std::optional<JobDetail> StoreReads::job(std::int64_t id) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
-  auto s = db->prepare(std::string("SELECT ") + job_columns +
-                       " FROM jobs j LEFT JOIN results r ON r.job_id = j.id WHERE j.id = ?");
+  auto s = db->prepare(std::string("SELECT ") + job_columns + " FROM" + job_tables +
+                       " WHERE j.id = ?");
   s.bind(1, id);
   if (!s.step()) return std::nullopt;
   JobDetail d;
@@ -231,8 +242,8 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
       " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps, " +
       feature_number("band_speed_error") + ", " + feature_number("band_speed_transit") + ", " +
-      feature_number("band_speed_transit_error") +
-      " FROM jobs j LEFT JOIN results r ON r.job_id = j.id"
+      feature_number("band_speed_transit_error") + ", h.label" +
+      " FROM" + job_tables +
       " WHERE j.phi BETWEEN ?1 - 1e-9 AND ?1 + 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
       " AND (?3 IS NULL OR j.cells_per_unit = ?3)"
@@ -258,6 +269,7 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
     p.band_speed_error = s.opt_real(14);
     p.band_speed_transit = s.opt_real(15);
     p.band_speed_transit_error = s.opt_real(16);
+    p.human_label = s.opt_text(17);
     points.push_back(std::move(p));
   }
   return points;

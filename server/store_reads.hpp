@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "job_states.hpp"
+#include "label_store.hpp"
 #include "queue_store.hpp"
 #include "store_db.hpp"
 
@@ -29,6 +30,10 @@ struct SweepRecord {
   Millis created_at = 0;
   std::optional<Millis> cancelled_at;
   StateCounts counts;
+  // An imported sweep: the database and sweep it was computed as, and the import's provenance
+  // (JSON text); none for a sweep made here.
+  std::optional<std::string> origin_database, origin;
+  std::optional<std::int64_t> origin_sweep;
 };
 
 struct StoredResult {
@@ -37,6 +42,11 @@ struct StoredResult {
   std::optional<double> confidence, band_speed_ratio, eps_reached, wall_seconds;
   std::optional<std::int64_t> n_reflections;
   Millis created_at = 0;
+  // An imported result: the database and job that computed it, and when it came; none when it
+  // was computed here.
+  std::optional<std::string> origin_database;
+  std::optional<std::int64_t> origin_job;
+  std::optional<Millis> imported_at;
 };
 
 struct JobRecord {
@@ -52,6 +62,7 @@ struct JobRecord {
   Millis created_at = 0, run_after = 0;
   std::optional<Millis> started_at, heartbeat_at, finished_at, lease_deadline;
   std::optional<StoredResult> result;
+  std::optional<HumanLabel> human_label;  // a person's label beside the classifier's
 };
 
 struct EventRecord {
@@ -79,6 +90,7 @@ struct PhaseMapPoint {
   std::optional<double> band_speed_error, band_speed_transit, band_speed_transit_error;
   std::optional<std::int64_t> n_reflections;
   std::int64_t job_id = 0, cells_per_unit = 0;
+  std::optional<std::string> human_label;  // a person's label; `cls` stays the classifier's
 };
 
 struct ArtifactInfo {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "compaction/params.hpp"
+#include "label_views.hpp"
 #include "cost_model.hpp"
 
 namespace compaction::server::views {
@@ -71,7 +72,8 @@ json sweep(const SweepRecord& s) {
           {"cancelled_at", opt(s.cancelled_at)},
           {"state", state},
           {"counts", counts(s.counts)},
-          {"progress", total > 0 ? static_cast<double>(finished) / total : 1.0}};
+          {"progress", total > 0 ? static_cast<double>(finished) / total : 1.0},
+          {"imported", sweep_origin(s)}};
 }
 
 json sweeps(const Page<SweepRecord>& page, int limit, int offset) {
@@ -131,8 +133,10 @@ json job(const JobRecord& j) {
                      {"eps_reached", opt(r.eps_reached)},
                      {"wall_seconds", opt(r.wall_seconds)},
                      {"worker", r.worker},
-                     {"created_at", r.created_at}};
+                     {"created_at", r.created_at},
+                     {"origin", result_origin(r)}};
   }
+  out["human_label"] = human_label(j.human_label);
   return out;
 }
 
@@ -186,6 +190,7 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.key("class").value(p.cls);
     t.key("confidence").value(p.confidence);
     t.key("eps_end").value(p.eps_end);
+    t.key("human_label").value(p.human_label);
     t.key("job_id").value(p.job_id);
     t.key("n_reflections").value(p.n_reflections);
     t.key("phi").value(p.phi);

@@ -62,9 +62,11 @@ Reply ApiClient::lease(const std::string& worker, const std::string& engine_vers
   return post_json("/api/v1/leases", {{"worker", worker}, {"engine_version", engine_version}});
 }
 
-Reply ApiClient::heartbeat(std::int64_t job_id, const std::string& lease_token, double eps) {
-  return post_json("/api/v1/jobs/" + std::to_string(job_id) + "/heartbeat",
-                   {{"lease_token", lease_token}, {"eps", eps}});
+Reply ApiClient::heartbeat(std::int64_t job_id, const std::string& lease_token, double eps,
+                          const json& resumed) {
+  json body = {{"lease_token", lease_token}, {"eps", eps}};
+  if (!resumed.is_null()) body["resumed"] = resumed;
+  return post_json("/api/v1/jobs/" + std::to_string(job_id) + "/heartbeat", body);
 }
 
 Reply ApiClient::complete(std::int64_t job_id, const std::string& lease_token,
@@ -89,6 +91,36 @@ Reply ApiClient::fail(std::int64_t job_id, const std::string& lease_token,
 Reply ApiClient::release(std::int64_t job_id, const std::string& lease_token) {
   return post_json("/api/v1/jobs/" + std::to_string(job_id) + "/release",
                    {{"lease_token", lease_token}});
+}
+
+Reply ApiClient::upload_checkpoint(std::int64_t job_id, const std::string& lease_token,
+                                  std::int64_t step, double eps, const std::string& bytes) {
+  auto c = make_client(base_url_);
+  httplib::Headers h;
+  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  const httplib::MultipartFormDataItems items = {
+      {"lease_token", lease_token, "", "text/plain"},
+      {"step", std::to_string(step), "", "text/plain"},
+      {"eps", json(eps).dump(), "", "text/plain"},
+      {"checkpoint", bytes, "checkpoint.bin", "application/octet-stream"},
+  };
+  return to_reply(
+      c.Post(("/api/v1/jobs/" + std::to_string(job_id) + "/checkpoint").c_str(), h, items));
+}
+
+Reply ApiClient::download_checkpoint(std::int64_t job_id, std::string& bytes) {
+  auto c = make_client(base_url_);
+  httplib::Headers h;
+  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  const auto r = c.Get(("/api/v1/jobs/" + std::to_string(job_id) + "/checkpoint").c_str(), h);
+  if (r && r->status == 200) {
+    Reply out;
+    out.outcome = Outcome::ok;
+    out.status = 200;
+    bytes = r->body;
+    return out;
+  }
+  return to_reply(r);
 }
 
 }  // namespace compaction::worker

@@ -38,12 +38,19 @@ class ApiClient {
   ApiClient(std::string base_url, std::string token);
 
   Reply lease(const std::string& worker, const std::string& engine_version);
-  Reply heartbeat(std::int64_t job_id, const std::string& lease_token, double eps);
+  // resumed: {"step", "eps"} of the checkpoint the run went on from, once (null: none).
+  Reply heartbeat(std::int64_t job_id, const std::string& lease_token, double eps,
+                  const nlohmann::json& resumed = nullptr);
   Reply complete(std::int64_t job_id, const std::string& lease_token, const std::string& summary,
                  const std::vector<UploadFile>& files);
   Reply fail(std::int64_t job_id, const std::string& lease_token, const std::string& reason,
              bool retryable);
   Reply release(std::int64_t job_id, const std::string& lease_token);
+  // Stores the run's checkpoint (the file's bytes, where the run stood) under the live lease.
+  Reply upload_checkpoint(std::int64_t job_id, const std::string& lease_token, std::int64_t step,
+                          double eps, const std::string& bytes);
+  // The job's stored checkpoint (the lease answer's "checkpoint"): its bytes into `bytes`.
+  Reply download_checkpoint(std::int64_t job_id, std::string& bytes);
 
  private:
   Reply post_json(const std::string& path, const nlohmann::json& body);

@@ -81,22 +81,96 @@ JobEnd JobRunner::run(const LeasedJob& job) {
   std::ofstream(dir / "scene.json") << scene.dump(2) << "\n";
   const std::string out_dir = (dir / "out").string();
   const std::string stderr_file = (dir / "stderr.log").string();
+  checkpoint_ = {(dir / "checkpoint.bin").string()};
+  resume_report_ = nullptr;
+  std::string resume = fetch_checkpoint(job, dir.string());
 
-  std::unique_ptr<ChildProcess> child;
-  try {
-    child = std::make_unique<ChildProcess>(
-        std::vector<std::string>{options_.runner, "--scene", (dir / "scene.json").string(), "--out",
-                                 out_dir, "--progress", "json"},
-        stderr_file);
-  } catch (const std::exception& e) {
-    return report_failure(job, std::string("cannot start the runner: ") + e.what(), true);
+  for (;;) {
+    std::vector<std::string> argv = {options_.runner, "--scene", (dir / "scene.json").string(),
+                                     "--out", out_dir, "--progress", "json",
+                                     "--checkpoint", checkpoint_.file, "--checkpoint-every",
+                                     json(options_.checkpoint_every).dump()};
+    if (!resume.empty()) argv.insert(argv.end(), {"--resume", resume});
+    std::unique_ptr<ChildProcess> child;
+    try {
+      child = std::make_unique<ChildProcess>(argv, stderr_file);
+    } catch (const std::exception& e) {
+      return report_failure(job, std::string("cannot start the runner: ") + e.what(), true);
+    }
+    spdlog::info("job {} started: S={} R={} phi={} cells_per_unit={} attempt {}/{} pid={}{}",
+                 job.id, scene.value("S", 0.0), scene.value("R", 0.0), scene.value("phi", 0.0),
+                 scene.value("cells_per_unit", 0), job.attempt, job.max_attempts, child->pid(),
+                 resume.empty() ? "" : " (resuming)");
+    const Watched w = watch(job, *child);
+    if (w.end) return *w.end;
+    if (!resume.empty() && !w.exit.signaled && w.exit.code == 4) {
+      spdlog::warn("job {}: the runner refused the checkpoint ({}); running from the start",
+                   job.id, tail_of_file(stderr_file, 500));
+      resume.clear();
+      continue;
+    }
+    return conclude(job, w, out_dir, stderr_file);
   }
-  spdlog::info("job {} started: S={} R={} phi={} cells_per_unit={} attempt {}/{} pid={}", job.id,
-               scene.value("S", 0.0), scene.value("R", 0.0), scene.value("phi", 0.0),
-               scene.value("cells_per_unit", 0), job.attempt, job.max_attempts, child->pid());
-  const Watched w = watch(job, *child);
-  if (w.end) return *w.end;
-  return conclude(job, w, out_dir, stderr_file);
+}
+
+std::string JobRunner::fetch_checkpoint(const LeasedJob& job, const std::string& dir) {
+  if (!job.checkpoint.is_object()) return {};
+  std::string bytes;
+  const Reply r = client_.download_checkpoint(job.id, bytes);
+  if (r.outcome != Outcome::ok) {
+    spdlog::warn("job {}: cannot download its checkpoint ({}); running from the start", job.id,
+                 r.message.empty() ? "HTTP " + std::to_string(r.status) : r.message);
+    return {};
+  }
+  const std::string path = (fs::path(dir) / "resume.bin").string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  spdlog::info("job {}: going on from the checkpoint at step {} (eps {}) of {}, {} bytes", job.id,
+               job.checkpoint.value("step", 0), job.checkpoint.value("eps", 0.0),
+               job.checkpoint.value("worker", std::string("?")), bytes.size());
+  return path;
+}
+
+void JobRunner::upload_checkpoint(const LeasedJob& job) {
+  if (checkpoint_.step < 0 || checkpoint_.uploaded) return;
+  const std::string bytes = read_file(checkpoint_.file);
+  if (bytes.empty()) {
+    spdlog::warn("job {}: the checkpoint {} is missing", job.id, checkpoint_.file);
+    return;
+  }
+  const Reply r = client_.upload_checkpoint(job.id, job.token, checkpoint_.step, checkpoint_.eps,
+                                            bytes);
+  if (r.outcome == Outcome::ok) {
+    checkpoint_.uploaded = true;
+    spdlog::info("job {}: checkpoint at step {} (eps {:.4f}) uploaded, {} bytes", job.id,
+                 checkpoint_.step, checkpoint_.eps, bytes.size());
+  } else {
+    spdlog::warn("job {}: checkpoint upload failed ({})", job.id, r.message);
+  }
+}
+
+void JobRunner::handle_line(const LeasedJob& job, const std::string& line, double& eps,
+                            Watched& w) {
+  const json ev = json::parse(line, nullptr, false);
+  if (!ev.is_object()) {
+    spdlog::debug("job {} runner: {}", job.id, line);
+    return;
+  }
+  const std::string kind = ev.value("event", std::string());
+  if (kind == "progress" && ev.contains("eps") && ev["eps"].is_number()) {
+    eps = std::clamp(ev["eps"].get<double>(), 0.0, 1.0);
+  } else if (kind == "checkpoint" && ev.contains("step") && ev["step"].is_number_integer()) {
+    checkpoint_.step = ev["step"].get<std::int64_t>();
+    checkpoint_.eps = std::clamp(ev.value("eps", 0.0), 0.0, 1.0);
+    checkpoint_.uploaded = false;
+    if (!stop_) upload_checkpoint(job);  // when stopping, after the runner has exited
+  } else if (kind == "resumed" && ev.contains("step") && ev["step"].is_number_integer()) {
+    resume_report_ = {{"step", ev["step"].get<std::int64_t>()},
+                      {"eps", std::clamp(ev.value("eps", 0.0), 0.0, 1.0)}};
+    eps = resume_report_["eps"].get<double>();
+  } else if (kind == "done") {
+    w.done_status = ev.value("status", std::string());
+    w.done_reason = ev.value("reason", std::string());
+  }
 }
 
 JobRunner::Watched JobRunner::watch(const LeasedJob& job, ChildProcess& child) {
@@ -105,31 +179,28 @@ JobRunner::Watched JobRunner::watch(const LeasedJob& job, ChildProcess& child) {
   double eps = 0.0, reported_eps = 0.0;
   Watched w;
   for (;;) {
-    for (const std::string& line : child.read_lines(200)) {
-      const json ev = json::parse(line, nullptr, false);
-      if (!ev.is_object()) {
-        spdlog::debug("job {} runner: {}", job.id, line);
-        continue;
-      }
-      const std::string kind = ev.value("event", std::string());
-      if (kind == "progress" && ev.contains("eps") && ev["eps"].is_number()) {
-        eps = std::clamp(ev["eps"].get<double>(), 0.0, 1.0);
-      } else if (kind == "done") {
-        w.done_status = ev.value("status", std::string());
-        w.done_reason = ev.value("reason", std::string());
-      }
-    }
+    for (const std::string& line : child.read_lines(200)) handle_line(job, line, eps, w);
     if (stop_) {
+      // The runner writes its final checkpoint when SIGTERM stops it; its line is read after.
       child.terminate(5000);
+      while (!child.eof()) {
+        for (const std::string& line : child.read_lines(200)) handle_line(job, line, eps, w);
+      }
       spdlog::info("job {}: stopping (signal); run stopped at eps={:.4f}", job.id, eps);
+      upload_checkpoint(job);
       w.end = release(job);
       return w;
     }
     const double since = seconds_since(last_hb);
-    if (since >= hb_interval || (eps > reported_eps && since >= std::min(1.0, hb_interval))) {
-      const Reply r = client_.heartbeat(job.id, job.token, eps);
+    if (since >= hb_interval || !resume_report_.is_null() ||
+        (eps > reported_eps && since >= std::min(1.0, hb_interval))) {
+      const Reply r = client_.heartbeat(job.id, job.token, eps, resume_report_);
       last_hb = Clock::now();
       if (r.outcome == Outcome::ok) {
+        if (!resume_report_.is_null()) {
+          spdlog::info("job {}: resume reported", job.id);
+          resume_report_ = nullptr;
+        }
         reported_eps = eps;
       } else if (r.outcome == Outcome::lease_lost || r.outcome == Outcome::not_found) {
         child.terminate(2000);
@@ -159,6 +230,7 @@ JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::st
   if ((!w.exit.signaled && w.exit.code == 3) ||
       (w.exit.signaled && (w.exit.code == SIGTERM || w.exit.code == SIGINT))) {
     spdlog::info("job {}: the runner was stopped from outside ({})", job.id, w.exit.describe());
+    upload_checkpoint(job);
     return release(job);
   }
   if (w.exit.signaled) {

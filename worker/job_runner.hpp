@@ -4,11 +4,18 @@
 //   exit 2            -> fail, not retryable (invalid input)
 //   exit 3, or killed
 //   by SIGTERM/SIGINT -> stopped from outside (a batch system ends every process of a job, the
-//                        runner too): release the lease, the attempt is not counted
+//                        runner too): upload the run's latest checkpoint, release the lease,
+//                        the attempt is not counted
+//   exit 4            -> the checkpoint the lease came with was refused: run again from t = 0
 //   exit 1, other,
 //   other signals     -> fail, retryable, with the reason and the tail of the runner's stderr
 //   heartbeat 409     -> the lease is lost (expired or cancelled): stop the run, report nothing
-//   stop requested    -> stop the run, release the lease (the job requeues at once)
+//   stop requested    -> stop the run (it writes a final checkpoint), upload the checkpoint,
+//                        release the lease (the job requeues at once)
+// Checkpoints (docs/service.md, "Checkpoints"): the runner writes one every --checkpoint-every
+// seconds and when it is stopped; the worker uploads each one under its lease. A lease that
+// comes with a checkpoint is run with --resume from it, and the first heartbeat after the
+// runner confirms reports the resume. A lost lease uploads nothing (the token is dead).
 #pragma once
 
 #include <atomic>
@@ -31,6 +38,7 @@ struct LeasedJob {
   double lease_seconds = 60;
   int attempt = 1;
   int max_attempts = 1;
+  nlohmann::json checkpoint;  // the lease answer's "checkpoint" (null: none), see checkpoint_of
 };
 
 enum class JobEnd {
@@ -64,6 +72,23 @@ class JobRunner {
   JobEnd report_failure(const LeasedJob& job, const std::string& reason, bool retryable);
   JobEnd upload(const LeasedJob& job, const std::string& out_dir);
   JobEnd release(const LeasedJob& job);
+  // One line of the runner's stdout: progress, checkpoints (each uploaded), the resume, done.
+  void handle_line(const LeasedJob& job, const std::string& line, double& eps, Watched& w);
+  // Downloads the lease's checkpoint into the job's folder; empty when there is none or it
+  // cannot be had (the run then starts at t = 0).
+  std::string fetch_checkpoint(const LeasedJob& job, const std::string& dir);
+  // Uploads the runner's newest checkpoint unless it is uploaded already.
+  void upload_checkpoint(const LeasedJob& job);
+
+  // The run's newest checkpoint the runner reported (step < 0: none yet).
+  struct Checkpointed {
+    std::string file;
+    std::int64_t step = -1;
+    double eps = 0.0;
+    bool uploaded = false;
+  };
+  Checkpointed checkpoint_;
+  nlohmann::json resume_report_;  // {"step", "eps"} for the next heartbeat, null once sent
 
   const WorkerOptions& options_;
   ApiClient& client_;

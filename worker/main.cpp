@@ -108,6 +108,7 @@ int main(int argc, char** argv) {
         job.lease_seconds = r.body.at("lease_seconds").get<double>();
         job.attempt = r.body.at("attempt").get<int>();
         job.max_attempts = r.body.at("max_attempts").get<int>();
+        job.checkpoint = r.body.value("checkpoint", nlohmann::json());
       } catch (const std::exception& e) {
         spdlog::error("malformed lease answer ({}): {}", e.what(),
                       r.body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).substr(0, 500));

@@ -14,7 +14,9 @@ namespace compaction::worker {
 namespace {
 
 const char* kNotes =
-    "SIGTERM or SIGINT: the run is stopped, the lease released (the job requeues at once), exit 0.\n"
+    "SIGTERM or SIGINT: the run is stopped, it writes a checkpoint of its state, the worker\n"
+    "uploads it and releases the lease (the job requeues at once, and the next worker that\n"
+    "leases it goes on from the checkpoint), exit 0.\n"
     "Exit codes: 0 done (signal, --max-jobs, --idle-exit), 1 error (work folder, malformed answer),\n"
     "2 bad flags (also a runner that cannot say its version) or the server refused the worker\n"
     "(token), 3 the server never answered.\n"
@@ -74,6 +76,9 @@ cli::CommandLine command_line(WorkerOptions& o) {
       "NAME", "worker name shown by the server", "host:pid");
   cl.real("--poll-interval", o.poll_interval, {0.05, 3600}, "S",
           "wait between lease attempts when the queue is empty, seconds");
+  cl.real("--checkpoint-every", o.checkpoint_every, compaction::kCheckpointEveryRange, "SECONDS",
+          "wall time between checkpoints of a run, each uploaded to the server\n"
+          "(0: only when the run is stopped)");
   cl.flag("--keep-work", o.keep_work, "keep each job's folder (scene.json, bundle, stderr.log)");
   cl.choice("--log-level", o.log_level, {"trace", "debug", "info", "warn", "error"}, "LEVEL",
             "log level");

@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include "compaction/checkpoint.hpp"
+
 namespace compaction::worker {
 
 struct WorkerOptions {
@@ -17,6 +19,8 @@ struct WorkerOptions {
   std::string name;              // worker name in leases (default host:pid)
   double poll_interval = 2;      // wait between lease attempts on an empty queue     [s]
   bool keep_work = false;        // keep each job's folder after it ends
+  // wall time between the runner's checkpoints, each uploaded (0: only when stopped)   [s]
+  double checkpoint_every = compaction::kDefaultCheckpointEvery;
   std::string log_level = "info";
 };
 

@@ -1,6 +1,7 @@
 """A runner stopped by a SIGTERM the worker did not send (a batch system signals every process of
-a job, the runner too): the worker gives the lease back, the attempt not counted and no failure
-recorded, and carries on: it leases the job again."""
+a job, the runner too): the runner writes its checkpoint, the worker uploads it and gives the
+lease back, the attempt not counted and no failure recorded, and carries on: it leases the job
+again and goes on from the checkpoint."""
 import os
 import signal
 
@@ -40,9 +41,9 @@ def kinds():
     return [e["kind"] for e in env.get("/api/v1/jobs/%d" % job_id)["events"]]
 
 
-env.wait_for(lambda: len(kinds()) >= 3, 60, "the job to be given back and leased again")
-check(kinds()[:3] == ["leased", "released", "leased"],
-      "given back, then leased again; events %s" % kinds())
+env.wait_for(lambda: len(kinds()) >= 5, 60, "the job to be given back, leased again and resumed")
+check(kinds()[:5] == ["leased", "checkpoint", "released", "leased", "resumed"],
+      "checkpoint uploaded, given back, then leased again and resumed; events %s" % kinds())
 job = env.get("/api/v1/jobs/%d" % job_id)
 check(job["attempts"] <= 1 and job["last_error"] is None,
       "the stopped run is no failed attempt: attempts %d, last_error %s" % (job["attempts"], job["last_error"]))

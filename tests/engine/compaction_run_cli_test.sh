@@ -46,5 +46,37 @@ echo '{"S": 0.05, "phi": 0.4, "typo": 1}' > "$out/bad.json"
 check "unknown scene key exits 2" test $rc -eq 2
 check "unknown scene key named" grep -q "typo" "$out/err"
 
+# Checkpoints (docs/runner.md): flags checked, a checkpoint of another scene refused with exit 4,
+# a resumed run's frames the same as the uninterrupted run's above.
+"$run" --S 0.05 --checkpoint-every 5 --out "$out/x" 2> "$out/err"; rc=$?
+check "checkpoint-every without checkpoint exits 2" test $rc -eq 2
+check "checkpoint-every message" grep -q -- "--checkpoint-every: needs --checkpoint FILE" "$out/err"
+"$run" --S 0.05 --checkpoint "$out/c.ckpt" --checkpoint-every -1 --out "$out/x" 2> "$out/err"; rc=$?
+check "negative checkpoint-every exits 2" test $rc -eq 2
+check "checkpoint-every range message" grep -q -- "--checkpoint-every: must be in \[0, 1e+07\], got -1" "$out/err"
+"$run" --S 0.05 --resume "$out/none.ckpt" --out "$out/x" 2> "$out/err"; rc=$?
+check "resume of a missing file exits 2" test $rc -eq 2
+check "resume message" grep -q -- "--resume: no such file" "$out/err"
+"$run" --help > "$out/help" 2>&1
+check "help documents --checkpoint-every" grep -q -- "--checkpoint-every SECONDS" "$out/help"
+# a checkpoint before every step: the file holds the state before the run's last step
+"$run" --scene "$out/scene.json" --eps-end 0.01 --checkpoint "$out/c.ckpt" --checkpoint-every 0 \
+  --progress json --out "$out/d" > "$out/progress" 2> "$out/err"; rc=$?
+check "no checkpoint without a stop at interval 0" test ! -e "$out/c.ckpt"
+"$run" --scene "$out/scene.json" --eps-end 0.01 --checkpoint "$out/c.ckpt" --checkpoint-every 1e-9 \
+  --progress json --out "$out/d" > "$out/progress" 2> "$out/err"; rc=$?
+check "run with checkpoints exits 0" test $rc -eq 0
+check "checkpoint lines" grep -q '"event":"checkpoint"' "$out/progress"
+check "checkpoint written" test -s "$out/c.ckpt"
+"$run" --scene "$out/scene.json" --eps-end 0.01 --S 0.04 --resume "$out/c.ckpt" --out "$out/e" 2> "$out/err"; rc=$?
+check "checkpoint of another scene exits 4" test $rc -eq 4
+check "refusal names the field" grep -q -- "--resume: the checkpoint is of another scene: S is 0.05 there and 0.04 here" "$out/err"
+check "nothing written on refusal" test ! -e "$out/e/summary.json"
+"$run" --scene "$out/scene.json" --eps-end 0.01 --resume "$out/c.ckpt" --progress json --out "$out/f" > "$out/progress" 2> "$out/err"; rc=$?
+check "resumed run exits 0" test $rc -eq 0
+check "resumed line" grep -q '"event":"resumed"' "$out/progress"
+check "resumed frames equal the uninterrupted run's" cmp -s "$out/b/frames.csv" "$out/f/frames.csv"
+check "resumed map equals the uninterrupted run's" cmp -s "$out/b/spacetime.npy" "$out/f/spacetime.npy"
+
 echo "$pass passed, $fail failed"
 test $fail -eq 0

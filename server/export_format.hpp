@@ -1,0 +1,100 @@
+// The export file of a sweep (schema/sweep-export.md, schema/sweep-export.schema.json): the
+// results of one sweep with their scenes, provenance, human labels and the artifacts the map
+// and the run page need, that another server imports (compaction-server --import FILE, or
+// POST /api/v1/imports) into its own database. The writer makes the file from the store's
+// records; the reader checks a whole file and turns it into the rows the import store merges.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "label_store.hpp"
+#include "queue_store.hpp"
+#include "store_reads.hpp"
+#include "sweep_store.hpp"
+
+namespace compaction::server {
+
+inline constexpr const char* kExportFormat = "compaction-sweep-export";
+inline constexpr int kExportVersion = 1;
+
+// Which artifacts an export carries: all but the particle snapshots (snapshot_*.npy, 20 bytes a
+// particle and frame, the largest files of a bundle, which neither the map nor the run page
+// reads; the run page shows the snapshots' PNGs).
+bool exported_artifact(const std::string& name);
+
+// --- writing ---
+
+// The exporting server.
+struct ExportSource {
+  std::string database;  // this database's id (database_identity)
+  std::string engine_version, source_revision;
+  std::string server;    // the address the export was asked at (the Host header)
+  Millis exported_at = 0;
+};
+
+// One succeeded job of the sweep, with what the file carries of it.
+struct ExportRun {
+  JobRecord job;           // with its result and human label
+  std::int64_t position = 0;
+  std::string summary;     // summary.json as stored
+  std::vector<Artifact> artifacts;         // the exported ones, with their bytes
+  std::vector<std::string> left_out;       // names of the artifacts not carried
+};
+
+struct Store;
+
+// The export of a sweep of the store (its succeeded jobs, their summaries and the exported
+// artifacts); nullopt for an unknown sweep. server: the address the export was asked at.
+std::optional<std::string> export_sweep(Store& store, std::int64_t sweep_id,
+                                        const std::string& server, Millis now);
+
+// The file's text. jobs_without_result counts the sweep's jobs not exported (queued, running,
+// failed, cancelled: nothing to merge).
+std::string write_export(const ExportSource& source, const SweepRecord& sweep,
+                         const std::vector<ExportRun>& runs, std::int64_t jobs_without_result);
+
+// --- reading ---
+
+struct ImportedRun {
+  std::int64_t source_job = 0;        // the job's id in the exporting database
+  std::int64_t position = 0;          // its place in the sweep
+  NewJob job;                         // identity (engine version + canonical scene), scene, S, R...
+  std::string engine_version;
+  std::string origin_database;        // the database that computed it
+  std::int64_t origin_job = 0;        // and the job's id there
+  std::string worker;
+  std::int64_t attempts = 0;
+  std::optional<Millis> started_at, finished_at;
+  Millis result_created_at = 0;       // when the computing server stored the result
+  ResultRecord result;                // from the summary, with the artifacts' bytes
+  std::optional<HumanLabel> human_label;
+};
+
+struct ImportedSweep {
+  std::int64_t source_id = 0;         // its id in the exporting database
+  std::string name, request;          // request: JSON text
+  int priority = 0;
+  Millis created_at = 0;
+  std::string origin_database;        // the database it was first made in
+  std::int64_t origin_sweep = 0;      // and its id there
+};
+
+struct ExportFile {
+  int version = 0;
+  Millis exported_at = 0;
+  std::string source_database;
+  std::string source;                 // the "source" object (JSON text), kept as provenance
+  ImportedSweep sweep;
+  std::vector<ImportedRun> runs;
+};
+
+// Checks the whole file; throws ApiError(422, field, message) at the first problem, the field
+// named as in the file ("runs[3].summary.params.S", "runs[0].artifacts[2].data").
+ExportFile read_export(const std::string& text);
+
+}  // namespace compaction::server

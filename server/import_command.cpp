@@ -1,0 +1,56 @@
+#include "import_command.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "api_error.hpp"
+#include "clock.hpp"
+#include "compaction/result.hpp"
+#include "http_util.hpp"
+#include "store.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+json import_outcome_json(const ImportOutcome& o) {
+  return {{"sweep_id", o.sweep_id}, {"sweep_created", o.sweep_created},
+          {"runs", o.runs},         {"added", o.added},
+          {"filled", o.filled},     {"identical", o.identical},
+          {"conflicts", o.conflicts}, {"conflicts_known", o.conflicts_known},
+          {"linked", o.linked},     {"labels", o.labels},
+          {"changed", o.changed()}};
+}
+
+int run_import(const ServerOptions& options, const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    spdlog::error("--import {}: cannot read the file", file);
+    return 1;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    const ExportFile f = read_export(text.str());
+    StoreConfig config;
+    config.engine_version = compaction::engine_version();
+    Store store(options.db, config);
+    const ImportOutcome o = store.imports.merge(f, now_ms());
+    spdlog::info("imported {} into {}: sweep {} ({}), {} runs: {} new, {} filled, {} identical, "
+                 "{} conflicting ({} known), {} labels",
+                 file, options.db, o.sweep_id, o.sweep_created ? "created" : "existing", o.runs,
+                 o.added, o.filled, o.identical, o.conflicts, o.conflicts_known, o.labels);
+    std::cout << json_text(import_outcome_json(o)) << "\n";
+    return 0;
+  } catch (const ApiError& e) {
+    spdlog::error("--import {}: {}: {} (nothing imported)", file, e.field, e.what());
+  } catch (const std::exception& e) {
+    spdlog::error("--import {}: {} (nothing imported)", file, e.what());
+  }
+  return 1;
+}
+
+}  // namespace compaction::server

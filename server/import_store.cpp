@@ -1,0 +1,331 @@
+#include "import_store.hpp"
+
+#include <random>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "label_store.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+namespace {
+
+// The parts of a result that say what the run found; equal parts: the same result.
+struct Verdict {
+  std::string status, reason;
+  std::optional<std::string> cls, runner_up, features;
+  std::optional<double> confidence, band_speed_ratio, eps_reached;
+  std::optional<std::int64_t> n_reflections;
+  bool operator==(const Verdict&) const = default;
+};
+
+Verdict verdict_of(const ResultRecord& r) {
+  return {r.status, r.reason, r.cls, r.runner_up, r.features, r.confidence, r.band_speed_ratio,
+          r.eps_reached, r.n_reflections};
+}
+
+std::string random_hex(int bytes) {
+  static thread_local std::random_device rd;
+  static const char* hex = "0123456789abcdef";
+  std::string s;
+  for (int i = 0; i < bytes; ++i) {
+    const unsigned v = rd() & 255u;
+    s += hex[v >> 4];
+    s += hex[v & 15u];
+  }
+  return s;
+}
+
+void insert_result(sqlite::Database& w, std::int64_t job_id, const ImportedRun& run,
+                   const std::vector<std::string>& paths, Millis now) {
+  const ResultRecord& r = run.result;
+  w.prepare(
+       "INSERT INTO results (job_id, status, reason, scene, engine_version, source_revision,"
+       " class, confidence, runner_up, n_reflections, band_speed_ratio, features, eps_reached,"
+       " wall_seconds, summary, worker, created_at, origin_database, origin_job, imported_at)"
+       " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
+      .bind(1, job_id)
+      .bind(2, r.status)
+      .bind(3, r.reason)
+      .bind(4, r.scene)
+      .bind(5, r.engine_version)
+      .bind(6, r.source_revision)
+      .bind(7, r.cls)
+      .bind(8, r.confidence)
+      .bind(9, r.runner_up)
+      .bind(10, r.n_reflections)
+      .bind(11, r.band_speed_ratio)
+      .bind(12, r.features)
+      .bind(13, r.eps_reached)
+      .bind(14, r.wall_seconds)
+      .bind(15, r.summary)
+      .bind(16, run.worker)
+      .bind(17, run.result_created_at)
+      .bind(18, run.origin_database)
+      .bind(19, run.origin_job)
+      .bind(20, now)
+      .run();
+  auto art = w.prepare(
+      "INSERT INTO artifacts (job_id, name, content_type, size, data, path) VALUES (?, ?, ?, ?, X'', ?)");
+  for (std::size_t i = 0; i < r.artifacts.size(); ++i) {
+    art.reset();
+    art.bind(1, job_id)
+        .bind(2, r.artifacts[i].name)
+        .bind(3, r.artifacts[i].content_type)
+        .bind(4, static_cast<std::int64_t>(r.artifacts[i].data.size()))
+        .bind(5, paths[i])
+        .run();
+  }
+}
+
+std::string provenance_note(const ImportedRun& run) {
+  return "imported: computed by database " + run.origin_database + " as job " +
+         std::to_string(run.origin_job);
+}
+
+}  // namespace
+
+std::string ImportStore::database_id() {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare("SELECT id FROM database_identity");
+  if (!s.step()) throw sqlite::Error("database_identity is empty");
+  return s.text(0);
+}
+
+ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
+  const std::string own = database_id();
+  // Runs whose computation has a result here need no files; the others get theirs written
+  // before the transaction, without the lock (as a worker's upload).
+  std::set<std::string> have_result;
+  {
+    auto db = db_.readers.take();
+    sqlite::ReadTransaction read(*db);
+    auto s = db->prepare(
+        "SELECT 1 FROM jobs j JOIN results r ON r.job_id = j.id WHERE j.identity = ?");
+    for (const ImportedRun& run : f.runs) {
+      s.reset();
+      s.bind(1, run.job.identity);
+      if (s.step()) have_result.insert(run.job.identity);
+    }
+  }
+  struct Written {
+    std::string folder;
+    std::vector<std::string> paths;
+  };
+  std::vector<std::optional<Written>> written(f.runs.size());
+  struct RemoveUnlessKept {
+    ArtifactFiles& files;
+    std::vector<std::optional<Written>>& written;
+    std::set<std::string> keep;
+    ~RemoveUnlessKept() {
+      for (const auto& w : written) {
+        if (w && !keep.count(w->folder)) files.remove(w->folder);
+      }
+    }
+  } guard{db_.files, written, {}};
+  const std::string batch = random_hex(4);
+  for (std::size_t i = 0; i < f.runs.size(); ++i) {
+    const ImportedRun& run = f.runs[i];
+    if (have_result.count(run.job.identity)) continue;
+    Written w;
+    w.folder = "import-" + run.origin_database.substr(0, 8) + "-" + std::to_string(run.origin_job) +
+               "-" + batch;
+    written[i] = w;  // named before writing: a failed write leaves nothing behind either way
+    written[i]->paths = db_.files.write(w.folder, run.result.artifacts);
+  }
+
+  std::unique_lock lock(db_.write_mutex);
+  sqlite::Transaction tx(db_.writer);
+  sqlite::Database& w = db_.writer;
+  ImportOutcome out;
+  out.runs = static_cast<std::int64_t>(f.runs.size());
+
+  // The sweep: the one made for this source sweep before, the sweep itself when it was made
+  // here, or a new imported sweep.
+  const bool ours = f.sweep.origin_database == own;
+  auto find_sweep = w.prepare(
+      ours ? "SELECT id FROM sweeps WHERE id = ?2 AND origin_database IS NULL"
+           : "SELECT id FROM sweeps WHERE origin_database = ?1 AND origin_sweep = ?2");
+  find_sweep.bind(1, f.sweep.origin_database).bind(2, f.sweep.origin_sweep);
+  if (find_sweep.step()) {
+    out.sweep_id = find_sweep.int64(0);
+  } else {
+    const json origin = {{"source", json::parse(f.source)},
+                         {"source_sweep", f.sweep.source_id},
+                         {"created_at", f.sweep.created_at},
+                         {"exported_at", f.exported_at},
+                         {"imported_at", now}};
+    w.prepare(
+         "INSERT INTO sweeps (name, request, priority, created_at, origin_database, origin_sweep,"
+         " origin) VALUES (?, ?, ?, ?, ?, ?, ?)")
+        .bind(1, f.sweep.name)
+        .bind(2, f.sweep.request)
+        .bind(3, f.sweep.priority)
+        .bind(4, now)
+        .bind(5, f.sweep.origin_database)
+        .bind(6, f.sweep.origin_sweep)
+        .bind(7, origin.dump())
+        .run();
+    out.sweep_id = w.last_insert_rowid();
+    out.sweep_created = true;
+  }
+  find_sweep.reset();
+
+  auto find = w.prepare(
+      "SELECT j.id, j.state, r.job_id IS NOT NULL FROM jobs j LEFT JOIN results r"
+      " ON r.job_id = j.id WHERE j.identity = ?");
+  auto insert_job = w.prepare(
+      "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
+      " state, priority, attempts, max_attempts, run_after, worker, progress_eps, created_at,"
+      " started_at, finished_at)"
+      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, 'succeeded', ?, ?, max(?, 3), ?, ?, ?, ?, ?, ?)");
+  auto fill_job = w.prepare(
+      "UPDATE jobs SET state = 'succeeded', lease_token = NULL, lease_deadline = NULL,"
+      " worker = ?2, progress_eps = ?3, started_at = ?4, finished_at = ?5"
+      " WHERE id = ?1 AND state <> 'succeeded'");
+  auto stored = w.prepare(
+      "SELECT status, reason, class, runner_up, features, confidence, band_speed_ratio,"
+      " eps_reached, n_reflections, origin_database, origin_job FROM results WHERE job_id = ?");
+  auto conflict = w.prepare(
+      "INSERT OR IGNORE INTO result_conflicts (job_id, origin_database, origin_job, status,"
+      " reason, class, confidence, runner_up, n_reflections, band_speed_ratio, features,"
+      " eps_reached, source_revision, worker, created_at, imported_at, summary)"
+      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  auto link = w.prepare(
+      "INSERT OR IGNORE INTO sweep_jobs (sweep_id, job_id, position) VALUES (?, ?, ?)");
+
+  for (std::size_t i = 0; i < f.runs.size(); ++i) {
+    const ImportedRun& run = f.runs[i];
+    const ResultRecord& r = run.result;
+    find.reset();
+    find.bind(1, run.job.identity);
+    std::int64_t job_id = 0;
+    bool has_result = false;
+    std::string state;
+    if (find.step()) {
+      job_id = find.int64(0);
+      state = find.text(1);
+      has_result = find.int64(2) != 0;
+    }
+    find.reset();
+    if (!has_result && !written[i]) {
+      // A result that was here when the files were planned can never leave (results are never
+      // deleted), so this is a bug, not a race.
+      throw sqlite::Error("import: a job lost its result during the import");
+    }
+    if (job_id == 0) {
+      insert_job.reset();
+      insert_job.bind(1, run.job.identity)
+          .bind(2, run.job.scene)
+          .bind(3, run.engine_version)
+          .bind(4, run.job.S)
+          .bind(5, run.job.R)
+          .bind(6, run.job.phi)
+          .bind(7, run.job.cells_per_unit)
+          .bind(8, run.job.eps_end)
+          .bind(9, f.sweep.priority)
+          .bind(10, run.attempts)
+          .bind(11, run.attempts)
+          .bind(12, now)
+          .bind(13, run.worker)
+          .bind(14, r.eps_reached)
+          .bind(15, now)
+          .bind(16, run.started_at)
+          .bind(17, run.finished_at)
+          .run();
+      job_id = w.last_insert_rowid();
+      insert_result(w, job_id, run, written[i]->paths, now);
+      log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
+                provenance_note(run));
+      guard.keep.insert(written[i]->folder);
+      ++out.added;
+    } else if (!has_result) {
+      fill_job.reset();
+      fill_job.bind(1, job_id)
+          .bind(2, run.worker)
+          .bind(3, r.eps_reached)
+          .bind(4, run.started_at)
+          .bind(5, run.finished_at)
+          .run();
+      insert_result(w, job_id, run, written[i]->paths, now);
+      log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
+                provenance_note(run) + " (was " + state + ")");
+      guard.keep.insert(written[i]->folder);
+      ++out.filled;
+    } else {
+      stored.reset();
+      stored.bind(1, job_id);
+      stored.step();
+      const Verdict here{stored.text(0),      stored.opt_text(1).value_or(""), stored.opt_text(2),
+                         stored.opt_text(3),  stored.opt_text(4),             stored.opt_real(5),
+                         stored.opt_real(6),  stored.opt_real(7),             stored.opt_int64(8)};
+      const auto here_db = stored.opt_text(9);
+      const auto here_job = stored.opt_int64(10);
+      stored.reset();
+      const bool same_run = (here_db ? *here_db : own) == run.origin_database &&
+                            (here_db ? here_job.value_or(0) : job_id) == run.origin_job;
+      if (same_run || here == verdict_of(r)) {
+        ++out.identical;
+      } else {
+        conflict.reset();
+        conflict.bind(1, job_id)
+            .bind(2, run.origin_database)
+            .bind(3, run.origin_job)
+            .bind(4, r.status)
+            .bind(5, r.reason)
+            .bind(6, r.cls)
+            .bind(7, r.confidence)
+            .bind(8, r.runner_up)
+            .bind(9, r.n_reflections)
+            .bind(10, r.band_speed_ratio)
+            .bind(11, r.features)
+            .bind(12, r.eps_reached)
+            .bind(13, r.source_revision)
+            .bind(14, run.worker)
+            .bind(15, run.result_created_at)
+            .bind(16, now)
+            .bind(17, r.summary)
+            .run();
+        if (w.changes() > 0) {
+          ++out.conflicts;
+        } else {
+          ++out.conflicts_known;
+        }
+      }
+    }
+    link.reset();
+    link.bind(1, out.sweep_id).bind(2, job_id).bind(3, run.position).run();
+    if (w.changes() > 0) ++out.linked;
+    if (run.human_label &&
+        LabelStore::import_label(w, job_id, *run.human_label,
+                                 "imported from database " + f.source_database)) {
+      ++out.labels;
+    }
+  }
+  if (!out.changed()) return out;  // the transaction rolls back: nothing was written
+  tx.commit();
+  db_.wait_durable(lock);
+  return out;
+}
+
+std::vector<std::string> ImportStore::conflicts(std::int64_t job_id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
+      "SELECT json_object('database', origin_database, 'job', origin_job, 'status', status,"
+      " 'reason', reason, 'class', class, 'confidence', confidence, 'runner_up', runner_up,"
+      " 'n_reflections', n_reflections, 'band_speed_ratio', band_speed_ratio,"
+      " 'eps_reached', eps_reached, 'source_revision', source_revision, 'worker', worker,"
+      " 'created_at', created_at, 'imported_at', imported_at)"
+      " FROM result_conflicts WHERE job_id = ? ORDER BY id");
+  s.bind(1, job_id);
+  std::vector<std::string> out;
+  while (s.step()) out.push_back(s.text(0));
+  return out;
+}
+
+}  // namespace compaction::server
