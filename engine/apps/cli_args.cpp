@@ -60,6 +60,8 @@ const SceneFlag kSceneFlags[] = {
     {"--d-eps", "d_eps", Kind::real, &limits::d_eps, "imposed strain between frames"},
     {"--snapshot-eps", "snapshot_eps", Kind::real_list, &limits::snapshot_eps,
      "strains of particle snapshots, comma list ('': none), each"},
+    {"--movie-d-eps", "movie_d_eps", Kind::real, &limits::movie_d_eps,
+     "strain between the frames of movie.bin (0: no movie; else >= --d-eps)"},
     {"--rho", "rho", Kind::real, &limits::rho, "density of the solid, kg/m^2"},
     {"--nu", "nu", Kind::real, &limits::nu, "Poisson's ratio"},
     {"--q-y", "q_y", Kind::real, &limits::q_y, "yield strength, N/m"},

@@ -5,12 +5,14 @@
 
 #include <atomic>
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 
 #include "cli_args.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/classify.hpp"
+#include "compaction/movie.hpp"
 #include "compaction/simulation.hpp"
 
 namespace {
@@ -116,6 +118,15 @@ int main(int argc, char** argv) {
         break;
     }
   };
+  // The movie is written into the bundle as the run goes; a stale one of an earlier run into
+  // the same folder is removed, so that only a summary's own movie sits beside it.
+  const std::filesystem::path movie_file = std::filesystem::path(opt.out_dir) / movie::kFileName;
+  std::error_code fs_error;
+  std::filesystem::remove(movie_file, fs_error);
+  if (p.movie_d_eps > 0.0) {
+    std::filesystem::create_directories(opt.out_dir, fs_error);
+    control.movie_file = movie_file.string();
+  }
   if (mode == cli::ProgressMode::json) {
     print_json_line({{"event", "start"}, {"eps_end", p.eps_final()}});
   }

@@ -9,7 +9,7 @@
 
 namespace compaction {
 
-FrameRecorder::FrameRecorder(const SceneParams& p, const State& s) {
+FrameRecorder::FrameRecorder(const SceneParams& p, const State& s, const std::string& movie_file) {
   const bool walls = p.geometry == Geometry::full2d;
   x_lo_ = walls ? 0.1 * p.width() : -1e300;
   x_hi_ = walls ? 0.9 * p.width() : 1e300;
@@ -23,6 +23,9 @@ FrameRecorder::FrameRecorder(const SceneParams& p, const State& s) {
   end_n_.assign(s.setup.n_struts, 0);
   snapshots_due_ = p.snapshot_eps;
   std::sort(snapshots_due_.begin(), snapshots_due_.end());
+  if (!movie_file.empty() && p.movie_d_eps > 0.0) {
+    movie_ = std::make_unique<MovieRecorder>(movie_file, p, s);
+  }
 }
 
 void FrameRecorder::record(State& s, double eps_begin, double eps_end, RunResult& out) {
@@ -46,6 +49,7 @@ void FrameRecorder::record(State& s, double eps_begin, double eps_end, RunResult
   out.frames.push_back(f);
   append_map_rows(out, d_eps, su.V);
   take_snapshot_if_due(P, eps_end, d_eps, out);
+  if (movie_) movie_->record_if_due(P, eps_end, d_eps);
 
   std::fill(s.particles.dep.begin(), s.particles.dep.end(), 0.0);
   s.clock.top_impulse = 0.0;

@@ -1,23 +1,34 @@
 // What a run records once per frame: plate stresses, the space-time map row, the row velocity
-// profile, energies, strut deflections, and the particle snapshots that fall due.
+// profile, energies, strut deflections, the particle snapshots and the movie frames that fall
+// due.
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
+#include "movie_recorder.hpp"
 #include "state.hpp"
 
 namespace compaction {
 
 class FrameRecorder {
  public:
-  FrameRecorder(const SceneParams& p, const State& s);
+  // movie_file: where the movie goes (movie.hpp) when p.movie_d_eps > 0; empty: no movie.
+  FrameRecorder(const SceneParams& p, const State& s, const std::string& movie_file = {});
 
   // Closes the frame [eps_begin, eps_end] of imposed strain: appends a Frame and a row of the
   // space-time map to `out`, takes a snapshot when one is due, and resets the per-frame
   // accumulators of the particles (plastic increments) and of the clock (plate impulses).
   void record(State& s, double eps_begin, double eps_end, RunResult& out);
+
+  // Frames of the movie written so far (0 without a movie), and going on from a file that
+  // held that many (a resumed run; MovieRecorder::resume).
+  std::int64_t movie_frames() const { return movie_ ? movie_->frames_written() : 0; }
+  void resume_movie(std::int64_t frames) { if (movie_) movie_->resume(frames); }
 
   // How many of the scene's snapshot strains the frames recorded so far have passed (a
   // checkpoint keeps it; a resumed run's recorder goes on from it).
@@ -48,6 +59,7 @@ class FrameRecorder {
   std::vector<int> mid_n_, end_n_;
   std::vector<double> snapshots_due_;  // ascending
   std::size_t next_snapshot_ = 0;
+  std::unique_ptr<MovieRecorder> movie_;
 };
 
 }  // namespace compaction

@@ -105,6 +105,14 @@ std::vector<FieldError> validate(const SceneParams& p) {
                                      num(p.snapshot_eps.size())});
   }
   for (double s : p.snapshot_eps) check_range(e, "snapshot_eps", s, limits::snapshot_eps);
+  if (p.movie_d_eps != 0.0) {  // 0: no movie; a movie frame needs an output frame to fall on
+    if (!limits::movie_d_eps.contains(p.movie_d_eps)) {
+      check_range(e, "movie_d_eps", p.movie_d_eps, limits::movie_d_eps);
+    } else if (p.movie_d_eps < p.d_eps) {
+      e.push_back({"movie_d_eps", "must be 0 (no movie) or at least d_eps (" + num(p.d_eps) +
+                                      "), got " + num(p.movie_d_eps)});
+    }
+  }
   if (e.empty() && p.eps_final() / p.d_eps > 1e5) {
     e.push_back({"d_eps", "too small: " + num(p.eps_final() / p.d_eps) +
                               " frames up to eps_end, at most 1e5"});

@@ -62,7 +62,7 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   const auto t0 = std::chrono::steady_clock::now();
   State s = build_scene(p);
   ThreadPool pool(p.threads);
-  FrameRecorder recorder(p, s);
+  FrameRecorder recorder(p, s, control.movie_file);
 
   RunResult r = start_result(p, s);
   RunPosition at;  // where the loop stands; a resumed run takes it from the checkpoint

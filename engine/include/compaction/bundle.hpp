@@ -7,6 +7,8 @@
 //   snapshot_<eps>.npy     float32 [n_particles, 5]: x, y, strain rate / (V/h0), plastic strain, J
 //   snapshot_<eps>.png     the particles coloured by plastic strain rate
 //   velocity.npy           float32 [n_frames, n_rows]: row-averaged vertical velocity / V
+//   movie.bin              the particles every movie_d_eps of strain (compaction/movie.hpp),
+//                          written during the run (RunControl::movie_file), not by write_bundle
 //
 // The .npy files follow NumPy's documented format 1.0 (schema/bundle-format.md).
 #pragma once
@@ -21,15 +23,20 @@
 
 namespace compaction {
 
-// How many files a bundle holds: the five above without a snapshot, two per snapshot.
+// How many files a bundle holds: the five above without a snapshot or a movie, two per
+// snapshot, one movie.
 inline constexpr std::size_t kBundleFixedFiles = 5;
 inline constexpr std::size_t kFilesPerSnapshot = 2;
-inline constexpr std::size_t kMaxBundleFiles = kBundleFixedFiles + kFilesPerSnapshot * kMaxSnapshots;
+inline constexpr std::size_t kMovieFiles = 1;
+inline constexpr std::size_t kMaxBundleFiles =
+    kBundleFixedFiles + kFilesPerSnapshot * kMaxSnapshots + kMovieFiles;
 
-// An upper bound of the bytes a run's bundle takes (the snapshots' particle tables dominate:
-// 20 bytes per particle), from the parameters alone, so a service can refuse a scene whose
-// result it could not take.
+// An upper bound of the bytes a run's bundle takes (the snapshots' particle tables, 20 bytes
+// per particle, and the movie's frames, 5 per particle, dominate), from the parameters alone,
+// so a service can refuse a scene whose result it could not take.
 std::size_t bundle_size_bound(const SceneParams& p);
+// The part of that bound the movie takes.
+std::size_t movie_size_bound(const SceneParams& p);
 
 // Writes the whole bundle into dir (created if needed). summary.json goes last, by rename, so
 // that its presence marks a complete bundle; `summary_extras` are fields added to it (the

@@ -73,6 +73,7 @@ inline constexpr Range d_eps{1e-8, 0.1};
 inline constexpr Range threads{1, 256};
 inline constexpr Range eps_end{0.0, 0.95, true};  // when set (> 0); <= 0 means 1 - phi
 inline constexpr Range snapshot_eps{0.0, 0.95};
+inline constexpr Range movie_d_eps{0.001, 0.5};  // when set (> 0); 0: no movie; and >= d_eps
 }  // namespace limits
 
 // The thinnest strut between two square holes of a regular structure of solid fraction phi, as
@@ -134,6 +135,8 @@ struct SceneParams {
   double eps_end = -1.0;        // final imposed strain V t / h0; <= 0: fully dense, 1 - phi
   double d_eps = 0.002;         // strain between output frames                   [-]
   std::vector<double> snapshot_eps = {0.2};  // strains of particle snapshots     [-]
+  double movie_d_eps = 0.02;    // strain between the frames of the movie (movie.hpp; 30 frames
+                                // to eps = 0.6, about 3.3 MB at the default preset); 0: none [-]
   int threads = 1;              // worker threads of the time step                [-]
 
   // Derived quantities.

@@ -26,6 +26,10 @@ struct RunControl {
   // writing a checkpoint when checkpoint_file is set).
   const std::atomic<bool>* cancel = nullptr;
 
+  // When set and the scene's movie_d_eps > 0: the file the movie is written to as the run goes
+  // (compaction/movie.hpp; the runner's is <out>/movie.bin).
+  std::string movie_file;
+
   // Checkpoints (checkpoint.hpp). When checkpoint_file is set, the run writes its full state
   // there (a temporary file renamed over it) whenever checkpoint_every seconds of wall time
   // have passed since the last one (<= 0: never by time), and once more when cancelled.

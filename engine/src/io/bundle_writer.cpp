@@ -7,6 +7,7 @@
 
 #include "colormap.hpp"
 #include "compaction/bundle.hpp"
+#include "compaction/movie.hpp"
 #include "compaction/params_json.hpp"
 #include "npy.hpp"
 #include "png_image.hpp"
@@ -154,17 +155,34 @@ json summary_json(const SceneParams& p, const RunResult& r) {
   };
 }
 
-std::size_t bundle_size_bound(const SceneParams& p) {
+namespace {
+
+// An upper bound of the particles of a scene.
+double particle_bound(const SceneParams& p) {
   const double cells_per_unit = p.grid_cells_per_unit();
   const double cells = cells_per_unit * cells_per_unit * p.cols() * p.n_rows;
   const double ppc = static_cast<double>(p.particles_per_cell) * p.particles_per_cell;
-  const double particles = std::min(1.0, p.phi) * cells * ppc * 1.05 + 1000;  // rounding margin
+  return std::min(1.0, p.phi) * cells * ppc * 1.05 + 1000;  // rounding margin
+}
+
+}  // namespace
+
+std::size_t movie_size_bound(const SceneParams& p) {
+  const std::size_t frames = movie::frame_count(p);
+  if (frames == 0) return 0;
+  return movie::kHeaderBytes +
+         frames * movie::frame_bytes(static_cast<std::size_t>(particle_bound(p)));
+}
+
+std::size_t bundle_size_bound(const SceneParams& p) {
+  const double cells_per_unit = p.grid_cells_per_unit();
+  const double particles = particle_bound(p);
   const double frames = p.eps_final() / p.d_eps + 2;
   const double grid_rows = cells_per_unit * p.n_rows + 8;
   constexpr double png_bound = 1400.0 * 1400.0 * 3 + (1 << 16);  // an uncompressed picture
   const double bytes = static_cast<double>(p.snapshot_eps.size()) * (20 * particles + png_bound) +
                        2 * frames * grid_rows * 4 + frames * 512 + png_bound + (1 << 20);
-  return static_cast<std::size_t>(bytes);
+  return static_cast<std::size_t>(bytes) + movie_size_bound(p);
 }
 
 void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r,
@@ -191,6 +209,15 @@ void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r,
   }
   // The summary goes last, whole or not at all: its presence marks a complete bundle.
   json summary = summary_json(p, r);
+  // The movie is written during the run (RunControl::movie_file): listed when the run left one.
+  if (const fs::path movie_file = dir / movie::kFileName; fs::exists(movie_file)) {
+    const movie::Header h = movie::read_header(movie_file);
+    summary["movie"] = {{"file", movie::kFileName},
+                        {"frames", h.n_frames},
+                        {"n_particles", h.n_particles},
+                        {"d_eps", h.movie_d_eps},
+                        {"format", "schema/movie-format.md"}};
+  }
   summary.update(summary_extras);
   const fs::path tmp = dir / "summary.json.tmp";
   {

@@ -35,6 +35,7 @@ json to_json(const SceneParams& p) {
       {"eps_end", p.eps_final()},
       {"d_eps", p.d_eps},
       {"snapshot_eps", p.snapshot_eps},
+      {"movie_d_eps", p.movie_d_eps},
       {"threads", p.threads},
   };
 }
@@ -113,6 +114,7 @@ const std::map<std::string, std::pair<Reader, const char*>>& readers() {
           return true;
         },
         "an array of numbers"}},
+      {"movie_d_eps", {real(&SceneParams::movie_d_eps), "a number"}},
       {"threads", {integer(&SceneParams::threads), "an integer"}},
   };
   return table;
