@@ -22,6 +22,7 @@ namespace {
 // Numerics keys a sweep may set (the rest of SceneParams is fixed by the model or per point).
 const std::set<std::string> numerics_keys = {
     "preset", "cells_per_strut", "cells_per_unit", "particles_per_cell", "cfl", "transfer",
+    "movie_d_eps",
     "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed"};
 
 const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",
@@ -112,10 +113,13 @@ SceneParams make_scene(const SceneParams& base, double S, double R, double phi,
   }
   const std::size_t bundle = bundle_size_bound(p);
   if (bundle > limits.max_bundle_bytes) {
-    invalid("numerics.snapshot_eps",
+    // named after what takes most of it: the movie or the snapshots
+    const bool movie = 2 * movie_size_bound(p) > bundle;
+    invalid(movie ? "numerics.movie_d_eps" : "numerics.snapshot_eps",
             "the result at S = " + num(S) + ", R = " + num(R) + ", phi = " + num(phi) +
                 " may take up to " + std::to_string(bundle >> 20) + " MiB, above the server's upload limit of " +
-                std::to_string(limits.max_bundle_bytes >> 20) + " MiB: ask for fewer snapshots");
+                std::to_string(limits.max_bundle_bytes >> 20) + " MiB: " +
+                (movie ? "ask for a longer movie_d_eps (or 0: no movie)" : "ask for fewer snapshots"));
   }
   return p;
 }

@@ -83,14 +83,14 @@ bool valid_artifact_name(const std::string& name) {
     if (!ok) return false;
   }
   return ends_with(name, ".npy") || ends_with(name, ".png") || ends_with(name, ".csv") ||
-         ends_with(name, ".json");
+         ends_with(name, ".json") || ends_with(name, ".bin");
 }
 
 std::string artifact_content_type(const std::string& name) {
   if (ends_with(name, ".png")) return "image/png";
   if (ends_with(name, ".csv")) return "text/csv";
   if (ends_with(name, ".json")) return "application/json";
-  return "application/octet-stream";  // .npy
+  return "application/octet-stream";  // .npy, .bin (movie.bin)
 }
 
 ResultRecord intake_result(const std::string& summary_text, const std::string& job_scene,
@@ -124,7 +124,12 @@ ResultRecord intake_result(const std::string& summary_text, const std::string& j
   if (!errors.empty()) {
     invalid("summary.params." + errors.front().field, errors.front().message);
   }
-  if (canonical_scene(p) != job_scene) {
+  // The job's scene as this engine reads it: a scene queued before a key existed (movie_d_eps)
+  // stands for the same run with that key's default.
+  SceneParams queued;
+  const json job_json = json::parse(job_scene, nullptr, false);
+  const bool readable = !job_json.is_discarded() && compaction::from_json(job_json, queued).empty();
+  if (canonical_scene(p) != (readable ? canonical_scene(queued) : job_scene)) {
     invalid("summary.params", "do not match the parameters of the leased job");
   }
   r.scene = job_scene;
@@ -144,8 +149,8 @@ ResultRecord intake_result(const std::string& summary_text, const std::string& j
   for (auto& f : files) {
     if (!valid_artifact_name(f.name)) {
       invalid("files[" + valid_utf8(f.name.substr(0, 100)) + "]",
-              "artifact names are letters, digits, '_', '-', '.' ending in .npy, .png, .csv "
-              "or .json");
+              "artifact names are letters, digits, '_', '-', '.' ending in .npy, .png, .csv, "
+              ".json or .bin");
     }
     for (const auto& a : r.artifacts) {
       if (a.name == f.name) invalid("files[" + f.name + "]", "appears twice");

@@ -24,6 +24,14 @@ namespace {
 
 json range_json(const compaction::Range& r) { return {{"lo", r.lo}, {"hi", r.hi}, {"open", r.open}}; }
 
+// The movie's interval: its range when set, 0 for none, and the scene's default.
+json movie_json() {
+  json j = range_json(compaction::limits::movie_d_eps);
+  j["none"] = 0;
+  j["default"] = compaction::SceneParams{}.movie_d_eps;
+  return j;
+}
+
 // What a sweep request may hold: the planner's rules and the scene's ranges, from their homes.
 json limits_json(const PlannerLimits& l) {
   namespace lim = compaction::limits;
@@ -41,7 +49,8 @@ json limits_json(const PlannerLimits& l) {
             {"cells_per_unit", range_json(lim::cells_per_unit)},
             {"eps_end", range_json(lim::eps_end)},
             {"snapshot_eps", range_json(lim::snapshot_eps)},
-            {"max_snapshots", compaction::kMaxSnapshots}}}};
+            {"max_snapshots", compaction::kMaxSnapshots},
+            {"movie_d_eps", movie_json()}}}};
 }
 
 }  // namespace

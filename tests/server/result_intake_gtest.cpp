@@ -106,3 +106,24 @@ TEST(ResultIntake, BadUploadsNameTheField) {
   EXPECT_EQ(field_of(engine_summary().dump(), {{"run.sh", "x"}}), "files[run.sh]");
   EXPECT_EQ(field_of(engine_summary().dump(), {{"a.csv", "x"}, {"a.csv", "y"}}), "files[a.csv]");
 }
+
+TEST(ResultIntake, TheMovieIsAnArtifactOfItsOwnType) {
+  const ResultRecord r = intake_result(engine_summary().dump(), canonical_scene(scene()),
+                                       compaction::engine_version(), {{"movie.bin", "CSMOVIE1"}});
+  ASSERT_EQ(r.artifacts.size(), 1u);
+  EXPECT_EQ(r.artifacts[0].content_type, "application/octet-stream");
+  EXPECT_EQ(field_of(engine_summary().dump(), {{"movie.exe", "x"}}), "files[movie.exe]");
+}
+
+TEST(ResultIntake, AJobQueuedBeforeTheMovieKeyStandsForTheDefaultMovie) {
+  // A scene stored before movie_d_eps existed: the same run as one with its default.
+  json old_scene = json::parse(canonical_scene(scene()));
+  old_scene.erase("movie_d_eps");
+  const ResultRecord r = intake_result(engine_summary().dump(), old_scene.dump(),
+                                       compaction::engine_version(), {});
+  EXPECT_EQ(r.scene, old_scene.dump()) << "the job keeps its stored scene";
+  // A run with another movie interval is another run.
+  json s = engine_summary();
+  s["params"]["movie_d_eps"] = 0.05;
+  EXPECT_THROW(intake_result(s.dump(), old_scene.dump(), compaction::engine_version(), {}), ApiError);
+}
