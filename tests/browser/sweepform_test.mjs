@@ -132,6 +132,24 @@ test('the server refuses what the form leaves to it at the fields the form maps'
   assert.equal(formFieldOf(r.json.error.field), 'res');
 });
 
+test('the movie interval is 0 or in the range of /limits, sent as numerics.movie_d_eps; one below d_eps is refused by the server at the field', async () => {
+  const m = limits.scene.movie_d_eps;
+  assert.deepEqual([m.lo, m.hi, m.none, m.default], [0.001, 0.5, 0, 0.02]);
+  assert.deepEqual(validateSweep({ ...base, movie: '0.05' }).body.numerics, { preset: 'fast', movie_d_eps: 0.05 });
+  assert.deepEqual(validateSweep({ ...base, movie: '0' }).body.numerics, { preset: 'fast', movie_d_eps: 0 });
+  assert.deepEqual(validateSweep({ ...base, movie: '' }).body.numerics, { preset: 'fast' });
+  assert.match(validateSweep({ ...base, movie: '0.7' }).errors.movie, /\[0\.001, 0\.5\]/);
+  assert.ok(validateSweep({ ...base, movie: 'often' }).errors.movie);
+  // 0.001 is in the range but below the frame interval d_eps = 0.002: the scene's rule.
+  const r = validateSweep({ ...base, movie: '0.001' });
+  assert.equal(r.ok, true, JSON.stringify(r.errors));
+  const refused = await harness.api('/sweeps', r.body);
+  assert.equal(refused.status, 422, JSON.stringify(refused.json));
+  assert.equal(refused.json.error.field, 'numerics.movie_d_eps');
+  assert.match(refused.json.error.message, /d_eps/);
+  assert.equal(formFieldOf(refused.json.error.field), 'movie');
+});
+
 test('grids match the planner: log spacing, ends exact, 12 significant digits', () => {
   assert.deepEqual(expandAxis({ min: 1e-3, max: 1e-1, n: 3, scale: 'log' }), [1e-3, 1e-2, 1e-1]);
   assert.deepEqual(expandAxis({ min: 0.3, max: 0.5, n: 3, scale: 'linear' }), [0.3, 0.4, 0.5]);

@@ -78,6 +78,11 @@ function numericsOf(v, scene, phis, errors) {
     else if (s.length > scene.max_snapshots) errors.snapshots = `at most ${scene.max_snapshots} snapshots`;
     else numerics.snapshot_eps = s;
   }
+  if ((v.movie || '').trim() !== '' && scene.movie_d_eps) {
+    const m = num(v.movie), r = scene.movie_d_eps;
+    if (!(m === r.none || (Number.isFinite(m) && inside(r, m)))) errors.movie = `${r.none} (no movie) or a strain in ${show(r)}, at least the frame interval`;
+    else numerics.movie_d_eps = m;
+  }
   return numerics;
 }
 
@@ -196,6 +201,7 @@ export function formFieldOf(serverField) {
   if (f === 'numerics.cells_per_unit') return 'cpu';
   if (f === 'numerics.cells_per_strut') return 'cps';
   if (f === 'numerics.eps_end') return 'eps-end';
+  if (f === 'numerics.movie_d_eps') return 'movie';
   if (f === 'numerics.snapshot_eps' || f.startsWith('numerics.snapshot_eps')) return 'snapshots';
   if (f === 'numerics.preset' || f === 'numerics') return 'preset';
   if (f === 'name' || f === 'priority') return f;

@@ -1,9 +1,13 @@
 // Run detail: what a run was asked (parameters), what happened to it (state, timings, worker,
-// events), what it produced (space-time map, plate stresses, snapshot) and how it was labelled.
+// events), what it produced (space-time map, plate stresses, snapshot, movie) and how it was
+// labelled.
 import { api, fetchArtifact } from '../api.js';
 import { CLASSES, category, inkOn, label, look } from '../classes.js';
 import { Plot, colormap, colorBar, linearExtent, svgEl } from '../plot.js';
 import { parseNpy } from '../npy.js';
+import { parseMovie } from '../movie.js';
+import { particleFigure, RATE_LABEL } from '../particles.js';
+import { mountPlayer } from '../player.js';
 import { parseCsv } from '../csv.js';
 import { stressRatio } from '../physics.js';
 import { sci, fixed, when, duration, bytes, escapeHtml } from '../format.js';
@@ -12,7 +16,7 @@ const POLL_MS = 2000;
 const UNITS = {
   S: 'Mach number V/√(E/ρ)', R: 'q_y / E', phi: 'solid fraction', rho: 'kg/m²', nu: 'Poisson ratio',
   q_y: 'N/m', h0: 'm', cells_per_strut: 'grid cells across the thinnest strut', cells_per_unit: 'grid cells per unit cell (0: from the strut)', particles_per_cell: 'per cell per direction',
-  cfl: 'Courant number', eps_end: 'final imposed strain', d_eps: 'strain between frames', snapshot_eps: 'imposed strain',
+  cfl: 'Courant number', eps_end: 'final imposed strain', d_eps: 'strain between frames', snapshot_eps: 'imposed strain', movie_d_eps: 'strain between movie frames (0: none)',
   perturbation: 'of the particle spacing', n_rows: 'unit cells high', n_cols: 'unit cells wide (full 2D)',
 };
 
@@ -27,6 +31,7 @@ function pageHtml(id) {
       <section class="card span2" id="card-spacetime"><h2>Space-time map of the plastic strain rate</h2><div class="fig" id="st-fig"><p class="muted">waiting for the result…</p></div></section>
       <section class="card" id="card-stress"><h2>Plate stress</h2><div class="fig" id="stress-fig"><p class="muted">waiting for the result…</p></div></section>
       <section class="card" id="card-snapshot"><h2>Snapshot</h2><div id="snap-box"><p class="muted">waiting for the result…</p></div></section>
+      <section class="card" id="card-movie"><h2>Movie</h2><div id="movie-box"><p class="muted">waiting for the result…</p></div></section>
       <section class="card" id="card-class"><h2>Classification</h2><div id="class-box"><p class="muted">—</p></div></section>
       <section class="card" id="card-params"><h2>Parameters</h2><div id="params-box"></div></section>
       <section class="card" id="card-state"><h2>State and timings</h2><div id="state-box"></div>
@@ -36,7 +41,7 @@ function pageHtml(id) {
 
 export function mount(root, params) {
   const id = params.id;
-  let alive = true, timer = null, shownState = null;
+  let alive = true, timer = null, shownState = null, stopMovie = () => {};
   root.innerHTML = pageHtml(id);
   const $ = (x) => root.querySelector(`#${x}`);
 
@@ -89,10 +94,37 @@ export function mount(root, params) {
       try { frames = parseCsv(await fetchArtifact(id, 'frames.csv', 'text')); } catch (e) { console.error(e); }
     }
     if (!alive) return;
-    await renderSpacetime(names, summary, frames);
+    const scale = { lut: colormap('inferno'), vmax: await renderSpacetime(names, summary, frames) };
     if (!alive) return;
     renderStress($('stress-fig'), frames, summary, id);
-    renderSnapshot($('snap-box'), list, summary);
+    await renderSnapshot($('snap-box'), list, summary, scale, id);
+    if (!alive) return;
+    await renderMovie(names, summary, scale);
+  }
+
+  // The movie of movie.bin with the colour scale of the space-time map (its own without one).
+  async function renderMovie(names, summary, scale) {
+    const box = $('movie-box');
+    stopMovie();
+    if (!names.has('movie.bin')) {
+      const every = summary.params?.movie_d_eps;
+      box.innerHTML = `<p class="muted">No movie in this result${every === 0 ? ' (movie_d_eps = 0)' : every === undefined ? ' (written before movies existed)' : ''}.</p>`;
+      return;
+    }
+    try {
+      const movie = parseMovie(await fetchArtifact(id, 'movie.bin'));
+      if (!alive) return;
+      if (!movie.frames.length) { box.innerHTML = '<p class="muted">The movie has no frames: the run ended before its first.</p>'; return; }
+      const vmax = scale.vmax ?? levelScale(movie);
+      stopMovie = mountPlayer(box, movie, { vmax, lut: scale.lut, spacing: particleSpacing(summary) });
+      const cap = document.createElement('p');
+      cap.className = 'caption';
+      cap.innerHTML = `The particles every Δε = ${movie.header.dEps} of imposed strain, coloured by plastic strain rate over the last frame as the snapshot, on the colour scale of the space-time map${movie.header.flags & 1 ? ' (pseudo-1D: eight periods side by side)' : ''}; the line is the top plate. <a href="/api/v1/jobs/${id}/artifacts/movie.bin">movie.bin</a> (schema/movie-format.md)`;
+      box.append(cap);
+    } catch (e) {
+      console.error('movie.bin', e);
+      box.innerHTML = `<p class="muted">The movie could not be read: ${escapeHtml(e.message)}</p>`;
+    }
   }
 
   async function renderSpacetime(names, summary, frames) {
@@ -101,8 +133,7 @@ export function mount(root, params) {
       try {
         const npy = parseNpy(await fetchArtifact(id, 'spacetime.npy'));
         if (!alive) return;
-        drawSpacetime(box, npy, summary, frames, id);
-        return;
+        return drawSpacetime(box, npy, summary, frames, id);
       } catch (e) { console.error('spacetime.npy', e); }
     }
     if (names.has('spacetime.png')) {
@@ -110,10 +141,11 @@ export function mount(root, params) {
     } else {
       box.innerHTML = '<p class="muted">no space-time map in this result</p>';
     }
+    return null;
   }
 
   load();
-  return () => { alive = false; clearTimeout(timer); };
+  return () => { alive = false; clearTimeout(timer); stopMovie(); };
 }
 
 // The job's state, worker, attempts, timings and cost, then its events.
@@ -223,9 +255,13 @@ function drawSpacetime(box, npy, summary, frames, id) {
   const lut = colormap('inferno');
   const img = new ImageData(nf, nr);
   for (let f = 0; f < nf; f++) {
+    // Rows whose bottom is at or above the top plate, h0 (1 - ε), hold no particles (their 0
+    // is no measurement): they stay transparent, the plot's background, not the colour of 0.
+    const firstEmpty = Math.ceil(((1 - epsAt(f)) * h0) / rowH - 1e-9);
     for (let r = 0; r < nr; r++) {
-      const k = Math.max(0, Math.min(255, Math.round((vals[f * nr + r] / vmax) * 255))) * 3;
       const o = ((nr - 1 - r) * nf + f) * 4; // height up
+      if (r >= firstEmpty) continue;
+      const k = Math.max(0, Math.min(255, Math.round((vals[f * nr + r] / vmax) * 255))) * 3;
       img.data[o] = lut[k]; img.data[o + 1] = lut[k + 1]; img.data[o + 2] = lut[k + 2]; img.data[o + 3] = 255;
     }
   }
@@ -242,13 +278,16 @@ function drawSpacetime(box, npy, summary, frames, id) {
   plot.canvas.id = 'st-canvas';
   plot.ctx.imageSmoothingEnabled = nf < plot.pw / 3 ? false : true;
   plot.ctx.drawImage(off, 0, 0, plot.pw, plot.ph);
-  colorBar(plot.svg, { x: plot.m.l + plot.pw + 14, y: plot.m.t, w: 14, h: plot.ph, lut, lo: 0, hi: vmax, label: 'log_{10}(1 + |ε̇_{P}| h_{0}/V)' });
+  colorBar(plot.svg, { x: plot.m.l + plot.pw + 14, y: plot.m.t, w: 14, h: plot.ph, lut, lo: 0, hi: vmax, label: RATE_LABEL });
+  // The top plate, y/h0 = 1 - ε: the map's upper edge in the current configuration.
+  plot.line([eps0, eps1], [1 - eps0, 1 - eps1], { class: 'plate-line', id: 'st-plate', 'clip-path': plot.clipRect() });
   plot.canvas.dataset.frames = nf;
   plot.canvas.dataset.rows = nr;
   const cap = document.createElement('p');
   cap.className = 'caption';
-  cap.innerHTML = `Row-averaged plastic Hencky strain-rate magnitude, ${nf} frames × ${nr} rows (row height ${fixed(rowH / h0 * 1000, 2)}·10<sup>−3</sup> h<sub>0</sub>). A compaction band is a bright line; its slope is the band speed. <a href="/api/v1/jobs/${id}/artifacts/spacetime.npy">spacetime.npy</a>`;
+  cap.innerHTML = `Row-averaged plastic Hencky strain-rate magnitude, ${nf} frames × ${nr} rows (row height ${fixed(rowH / h0 * 1000, 2)}·10<sup>−3</sup> h<sub>0</sub>). A compaction band is a bright line; its slope is the band speed. Above the top plate (the line) there is no material. <a href="/api/v1/jobs/${id}/artifacts/spacetime.npy">spacetime.npy</a>`;
   box.append(cap);
+  return vmax;
 }
 
 // The stress of the top and bottom plates over q_y against imposed strain, from frames.csv.
@@ -267,8 +306,9 @@ function renderStress(box, frames, summary, id) {
   });
   plot.svg.id = 'stress-svg';
   const clip = plot.clipRect();
-  plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
+  // The bottom plate dashed over the top one: where the two stresses agree both stay visible.
   plot.line([0, ...eps], [0, ...top], { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
+  plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
   const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${plot.m.l + plot.pw - 162}, ${plot.m.t + 14})` }, plot.front);
   svgEl('rect', { x: -6, y: -10, width: 156, height: 44, class: 'legend-box' }, lg);
   [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].forEach(([k, t], i) => {
@@ -281,8 +321,10 @@ function renderStress(box, frames, summary, id) {
   box.append(cap);
 }
 
-// The snapshot nearest eps = 0.2 first, a tab per snapshot; a note when there is none.
-function renderSnapshot(box, list, summary) {
+// The snapshot nearest eps = 0.2 first, a tab per snapshot; a note when there is none. Drawn
+// from snapshot_<eps>.npy with axes and the space-time map's colour bar; its picture when the
+// table is missing or unreadable.
+async function renderSnapshot(box, list, summary, scale, id) {
   const pngs = list.filter((a) => /^snapshot_.*\.png$/.test(a.name));
   if (!pngs.length) {
     const want = summary.params?.snapshot_eps?.join(', ') ?? '0.2';
@@ -291,13 +333,65 @@ function renderSnapshot(box, list, summary) {
   }
   const epsOf = (n) => Number(n.replace(/^snapshot_|\.png$/g, ''));
   pngs.sort((a, b) => Math.abs(epsOf(a.name) - 0.2) - Math.abs(epsOf(b.name) - 0.2));
-  const show = (a) => `<figure><div class="snap-wrap"><img class="artifact-img" id="snap-img" alt="snapshot at eps ${epsOf(a.name)}" src="${a.url}"></div>
-    <figcaption>Particles coloured by plastic strain rate at ε = ${epsOf(a.name)}${summary.params?.geometry === 'pseudo1d' ? ' (pseudo-1D: eight periods side by side)' : ''}.</figcaption></figure>`;
-  box.innerHTML = (pngs.length > 1 ? `<div class="tabs">${pngs.map((a, i) => `<button data-i="${i}" class="${i ? '' : 'on'}">ε = ${epsOf(a.name)}</button>`).join('')}</div>` : '') + `<div id="snap-one">${show(pngs[0])}</div>`;
+  const tables = new Map(list.filter((a) => /^snapshot_.*\.npy$/.test(a.name)).map((a) => [a.name, a]));
+  const pseudo1d = summary.params?.geometry === 'pseudo1d';
+  const caption = (a) => `Particles coloured by plastic strain rate at ε = ${epsOf(a.name)}${pseudo1d ? ' (pseudo-1D: eight periods side by side)' : ''}, on the colour scale of the space-time map. <a href="${a.url}">picture</a>`;
+  async function show(a) {
+    const one = box.querySelector('#snap-one');
+    const npy = tables.get(a.name.replace(/\.png$/, '.npy'));
+    if (npy) {
+      try {
+        const t = parseNpy(await fetchArtifact(id, npy.name));
+        const [n, cols] = t.shape;
+        if (cols !== 5) throw new Error(`expected 5 columns, got ${cols}`);
+        const vmax = scale.vmax ?? tableScale(t.data, n);
+        one.replaceChildren();
+        const fig = document.createElement('figure');
+        one.append(fig);
+        const p = summary.params || {};
+        const width = (summary.derived?.unit_cell ?? (p.h0 || 1) / (p.n_rows || 34)) * (pseudo1d ? 1 : p.n_cols || 17);
+        const { plot, draw } = particleFigure(fig, { width, h0: p.h0 || 1, copies: pseudo1d ? 8 : 1, spacing: particleSpacing(summary), vmax, lut: scale.lut, title: `snapshot at ε = ${epsOf(a.name)}` });
+        plot.canvas.id = 'snap-canvas';
+        draw(n, (i) => t.data[i * 5], (i) => t.data[i * 5 + 1], (i) => Math.log10(1 + Math.max(0, t.data[i * 5 + 2])) / vmax);
+        const cap = document.createElement('figcaption');
+        cap.innerHTML = caption(a);
+        fig.append(cap);
+        return;
+      } catch (e) { console.error(npy.name, e); }
+    }
+    one.innerHTML = `<figure><div class="snap-wrap"><img class="artifact-img" id="snap-img" alt="snapshot at eps ${epsOf(a.name)}" src="${a.url}"></div><figcaption>${caption(a)}</figcaption></figure>`;
+  }
+  box.innerHTML = (pngs.length > 1 ? `<div class="tabs">${pngs.map((a, i) => `<button data-i="${i}" class="${i ? '' : 'on'}">ε = ${epsOf(a.name)}</button>`).join('')}</div>` : '') + '<div id="snap-one"></div>';
   box.querySelectorAll('.tabs button').forEach((b) => b.addEventListener('click', () => {
     box.querySelectorAll('.tabs button').forEach((x) => x.classList.toggle('on', x === b));
-    box.querySelector('#snap-one').innerHTML = show(pngs[Number(b.dataset.i)]);
+    show(pngs[Number(b.dataset.i)]);
   }));
+  await show(pngs[0]);
+}
+
+// The particle spacing of a run [m]: grid spacing / particles per cell and direction.
+function particleSpacing(summary) {
+  const p = summary.params || {};
+  const dx = summary.grid?.dx || (p.h0 || 1) / ((p.n_rows || 34) * (summary.grid?.cells_per_unit || 20));
+  return dx / (p.particles_per_cell || 2);
+}
+
+// The colour scale without a space-time map: the 99.5th percentile of log10(1 + rate) of the
+// particles that flowed (a snapshot's table, a movie's levels), as the map clips its own.
+function percentile995(values) {
+  if (!values.length) return 1;
+  const sorted = Float64Array.from(values).sort();
+  return Math.max(sorted[Math.floor(0.995 * (sorted.length - 1))], 1e-6);
+}
+function tableScale(data, n) {
+  const v = [];
+  for (let i = 0; i < n; i++) if (data[i * 5 + 2] > 0) v.push(Math.log10(1 + data[i * 5 + 2]));
+  return percentile995(v);
+}
+function levelScale(movie) {
+  const v = [], k = movie.header.rateLog10Max / 255;
+  for (const f of movie.frames) for (let i = 0; i < f.level.length; i++) if (f.level[i]) v.push(f.level[i] * k);
+  return percentile995(v);
 }
 
 function table(rows) {

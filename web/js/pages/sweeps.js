@@ -7,7 +7,7 @@ import { sweepPhis } from '../sweepmath.js';
 import { when, escapeHtml, duration } from '../format.js';
 
 const POLL_MS = 2500;
-const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'];
+const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
 
 // The form (each field with its hint and error line) and the card of the list. The form's
 // data-mode ("grid" or "adaptive") shows the .grid-only or the .adaptive-only parts
@@ -69,7 +69,7 @@ function pageHtml() {
             <div class="row3">
               ${field('priority', 'priority', numIn('priority', '0'), 'higher runs first')}
               ${field('attempts', 'max attempts', numIn('attempts', '3'))}
-              <div></div>
+              ${field('movie', 'movie every Δε', numIn('movie', '', 'placeholder="server default"'), '0: no movie')}
             </div>
           </details>
           <details class="advanced" id="token-box"><summary>Access</summary>
@@ -102,7 +102,7 @@ export function mount(root) {
     name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
     rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
     phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
-    snapshots: $('f-snapshots').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
+    snapshots: $('f-snapshots').value, movie: $('f-movie').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
   });
 
   function showErrors(errors, all) {
@@ -113,7 +113,7 @@ export function mount(root) {
       el.textContent = msg;
       el.closest('.f').classList.toggle('invalid', !!msg);
       $(`f-${id}`)?.setAttribute('aria-invalid', msg ? 'true' : 'false');
-      if (msg && ['cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts'].includes(id)) el.closest('details').open = true;
+      if (msg && ['cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts', 'movie'].includes(id)) el.closest('details').open = true;
     }
   }
 
@@ -221,6 +221,8 @@ export function mount(root) {
   api.limits().then((l) => {
     if (!alive) return;
     limits = l;
+    const movie = l.scene?.movie_d_eps;
+    if (movie) $('f-movie').placeholder = String(movie.default);  // the scene's default
     update();
   }).catch(() => {});
 
