@@ -25,8 +25,8 @@ die() { echo "podman-conf: $*" >&2; exit 1; }
 remove=0
 if [ "${1:-}" = --remove ]; then remove=1; shift; fi
 [ $# -eq 1 ] || die "usage: scripts/podman-conf.sh [--remove] DIR"
-mkdir -p "$1"
-dir="$(cd "$1" && pwd -P)"
+[ "$remove" = 1 ] || mkdir -p "$1"
+dir="$(cd "$1" 2>/dev/null && pwd -P)" || die "no folder $1"
 
 if [ "$remove" = 1 ]; then
   [ -f "$dir/containers.conf" ] && [ -f "$dir/storage.conf" ] ||
