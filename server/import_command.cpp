@@ -1,5 +1,6 @@
 #include "import_command.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -37,6 +38,8 @@ int run_import(const ServerOptions& options, const std::string& file) {
     const ExportFile f = read_export(text.str());
     StoreConfig config;
     config.engine_version = compaction::engine_version();
+    const std::filesystem::path db_path(options.db);
+    if (db_path.has_parent_path()) std::filesystem::create_directories(db_path.parent_path());
     Store store(options.db, config);
     const ImportOutcome o = store.imports.merge(f, now_ms());
     spdlog::info("imported {} into {}: sweep {} ({}), {} runs: {} new, {} filled, {} identical, "
