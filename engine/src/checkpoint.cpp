@@ -27,7 +27,7 @@ namespace {
 using nlohmann::json;
 
 constexpr char kMagic[8] = {'C', 'M', 'P', 'C', 'K', 'P', 'T', '\n'};
-constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::uint32_t kFormatVersion = 2;
 
 // The sections below list every field of these types. A field added to one of them changes its
 // size and stops the build here: write it into the checkpoint (and read it back), describe it
@@ -238,7 +238,8 @@ CheckpointInfo info_of(const json& h, std::uint64_t bytes) {
 }  // namespace
 
 CheckpointInfo write_checkpoint(const std::string& path, const SceneParams& p, const State& s,
-                                const RunResult& r, const RunPosition& at) {
+                                const RunResult& r, const RunPosition& at,
+                                const std::string& movie_file) {
   const auto t0 = std::chrono::steady_clock::now();
   const Particles& P = s.particles;
   const json header = {{"engine_version", engine_version()},
@@ -288,6 +289,16 @@ CheckpointInfo write_checkpoint(const std::string& path, const SceneParams& p, c
     o.put_array(snap.x), o.put_array(snap.y), o.put_array(snap.strain_rate);
     o.put_array(snap.plastic_strain), o.put_array(snap.jacobian);
   }
+  // 5. the movie written so far (its file is whole after each of its frames)
+  o.put(at.movie_frames);
+  std::string movie;
+  if (at.movie_frames > 0 && !movie_file.empty()) {
+    std::ifstream f(movie_file, std::ios::binary);
+    if (!f) throw std::runtime_error("checkpoint " + path + ": cannot read the movie " + movie_file);
+    movie.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  }
+  o.put(static_cast<std::uint64_t>(movie.size()));
+  o.put_bytes(movie);
   o.put(crc_of(o.bytes().data(), o.bytes().size()));
 
   write_file_atomically(path, o.bytes());
@@ -303,7 +314,7 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
 }
 
 CheckpointInfo restore_checkpoint(const std::string& path, const SceneParams& p, State& s,
-                                  RunResult& r, RunPosition& at) {
+                                  RunResult& r, RunPosition& at, std::string* movie_bytes) {
   const std::string bytes = read_whole(path);
   const Parsed parsed = parse(bytes, path);
   const CheckpointInfo info = info_of(parsed.header, bytes.size());
@@ -365,6 +376,10 @@ CheckpointInfo restore_checkpoint(const std::string& path, const SceneParams& p,
     in.get_array(snap.plastic_strain, n, "a snapshot's plastic strain");
     in.get_array(snap.jacobian, n, "a snapshot's jacobian");
   }
+  at.movie_frames = in.get<std::int64_t>();
+  std::vector<char> movie;
+  in.get_array(movie);
+  if (movie_bytes) movie_bytes->assign(movie.begin(), movie.end());
   if (!in.at_end()) throw CheckpointRefused("checkpoint damaged: bytes left after its sections");
   if (static_cast<std::int64_t>(r.frames.size()) != at.frame ||
       r.spacetime.n_rows != s.grid.cells_y || s.clock.step != info.step) {
