@@ -55,6 +55,10 @@ export const api = {
   job: (id) => request('GET', `/jobs/${id}`),
   jobs: (query) => request('GET', `/jobs?${new URLSearchParams(query)}`),
   artifacts: (id) => request('GET', `/jobs/${id}/artifacts`),
+  labels: (id) => request('GET', `/jobs/${id}/label`),
+  setLabel: (id, body) => request('PUT', `/jobs/${id}/label`, body),
+  clearLabel: (id, body) => request('DELETE', `/jobs/${id}/label`, body),
+  labelAudit: (limit = 200) => request('GET', `/labels/audit?limit=${limit}`),
   exportUrl: (id, format) => `${BASE}/sweeps/${id}/export?format=${format}`,
   artifactUrl: (id, name) => `${BASE}/jobs/${id}/artifacts/${encodeURIComponent(name)}`,
 };

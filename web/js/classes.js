@@ -30,7 +30,9 @@ export function inkOn(hex) {
 export function category(p) {
   if (p.state === 'succeeded') {
     if (p.status === 'unstable') return 'unstable';
-    return p.class && CLASSES[p.class] ? p.class : 'unclassified';
+    // A person's label (a class letter on the map's points) goes before the classifier's.
+    const cls = typeof p.human_label === 'string' ? p.human_label : p.class;
+    return cls && CLASSES[cls] ? cls : 'unclassified';
   }
   return STATES[p.state] ? p.state : 'queued';
 }

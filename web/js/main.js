@@ -5,6 +5,7 @@ import * as phaseMap from './pages/phasemap.js';
 import * as runDetail from './pages/run.js';
 import * as bandSpeed from './pages/bands.js';
 import * as sweeps from './pages/sweeps.js';
+import * as labelAudit from './pages/labels.js';
 import { parseHash } from './router.js';
 
 const routes = [
@@ -12,6 +13,7 @@ const routes = [
   { re: /^\/run\/(\d+)$/, page: runDetail, nav: 'map', id: true },
   { re: /^\/bands$/, page: bandSpeed, nav: 'bands' },
   { re: /^\/sweeps$/, page: sweeps, nav: 'sweeps' },
+  { re: /^\/labels$/, page: labelAudit, nav: 'labels' },
 ];
 
 let unmount = null;

@@ -3,6 +3,7 @@
 // Canvas for the background and the markers (10,000 stay fast), SVG for axes and overlays.
 // Hover: a tooltip with the run's numbers (or the prediction under the mouse); click: the
 // run's page. Export: SVG and PNG of the figure with its legend.
+import { drawHumanMark, humanTipRows } from '../humanlabels.js';
 import { api } from '../api.js';
 import { CLASSES, STATES, category, confidenceFade, drawMarker, label, look, swatch } from '../classes.js';
 import { cellAt, cellColor, drawRegions } from '../regions.js';
@@ -95,7 +96,8 @@ function drawPoints(plot, pts) {
     const progress = p.progress_eps !== null && p.eps_end > 0 ? p.progress_eps / p.eps_end : 0;
     const fade = CLASSES[cat] ? confidenceFade(p.confidence) : 0;
     const ring = cat === 'unclassified' ? p.runner_up : null;
-    drawMarker(plot.ctx, cat, x, y, r, progress, fade, ring);
+    drawMarker(plot.ctx, cat, x, y, r, progress, p.human_label ? 0 : fade, ring);
+    if (p.human_label) drawHumanMark(plot.ctx, x, y, r);
     markers.push({ cat, x, y, r, progress, fade, ring });
   }
   return { drawn, positions, counts, radius: r, markers, places };
@@ -205,6 +207,7 @@ function tooltipHtml(p, cat, numerics) {
   const rows = [
     ['S', sci(p.S)], ['R', sci(p.R)], ['φ', p.phi],
     ['class', CLASSES[cat] ? `<span class="dot" style="background:${CLASSES[cat].color}"></span>${escapeHtml(label(cat))}` : escapeHtml(look(cat).name)],
+    ...humanTipRows(p),
     ['confidence', p.confidence === null ? '—' : fixed(p.confidence, 2)],
     ['runner-up', p.runner_up ? escapeHtml(label(p.runner_up)) : '—'],
     ['<i>N</i><sub>r</sub>', p.n_reflections ?? '—'],

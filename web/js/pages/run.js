@@ -2,6 +2,7 @@
 // events), what it produced (space-time map, plate stresses, snapshot, movie) and how it was
 // labelled.
 import { api, fetchArtifact } from '../api.js';
+import { showRelabel } from '../relabel.js';
 import { CLASSES, category, inkOn, label, look } from '../classes.js';
 import { Plot, colormap, colorBar, linearExtent, svgEl } from '../plot.js';
 import { parseNpy } from '../npy.js';
@@ -33,6 +34,7 @@ function pageHtml(id) {
       <section class="card" id="card-snapshot"><h2>Snapshot</h2><div id="snap-box"><p class="muted">waiting for the result…</p></div></section>
       <section class="card" id="card-movie"><h2>Movie</h2><div id="movie-box"><p class="muted">waiting for the result…</p></div></section>
       <section class="card" id="card-class"><h2>Classification</h2><div id="class-box"><p class="muted">—</p></div></section>
+      <section class="card" id="card-label"><h2>Human label</h2><div id="label-box"><p class="muted">—</p></div></section>
       <section class="card" id="card-params"><h2>Parameters</h2><div id="params-box"></div></section>
       <section class="card" id="card-state"><h2>State and timings</h2><div id="state-box"></div>
         <h2 class="sub-h">Downloads</h2><div id="files-box"><p class="muted">no files yet</p></div></section>
@@ -61,6 +63,7 @@ export function mount(root, params) {
     $('state-box').innerHTML = stateHtml(job);
     $('params-box').innerHTML = paramsHtml(job);
     $('class-box').innerHTML = classHtml(job.result);
+    showRelabel($('label-box'), job, load);
     const finished = ['succeeded', 'failed', 'cancelled'].includes(job.state);
     if (job.state !== shownState && (job.result || finished)) {
       shownState = job.state;
