@@ -48,8 +48,10 @@ TEST(SceneSchema, NumericBoundsAgreeWithValidate) {
         // Two cells per unit (one across the strut) resolve hole and strut only where both are
         // half the cell, phi = 0.75; there, too, the finest strut stays within 200 cells per unit.
         if (key == "cells_per_unit" || key == "cells_per_strut") j["phi"] = 0.75;
-        // A movie frame falls on an output frame: frames at least as close as the movie's.
+        // A movie frame falls on an output frame (movie_d_eps >= d_eps): each bound of one with
+        // the other at a value that leaves it free.
         if (key == "movie_d_eps") j["d_eps"] = 0.001;
+        if (key == "d_eps") j["movie_d_eps"] = 0.1;
         EXPECT_TRUE(compaction::from_json(j, s).empty()) << key << " at its " << bound;
       }
       if (r.contains("const")) {
