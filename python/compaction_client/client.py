@@ -320,6 +320,41 @@ class Client:
         summary.json (result["summary"])."""
         return self._json("GET", "/jobs/%d" % job_id)
 
+    def set_label(self, job_id, label, reason, by):
+        """Sets a person's label (a-f) on a run with a result, with why and who (submit
+        token); the classifier's stays in result["class"]. Returns the run's labels."""
+        return self._json("PUT", "/jobs/%d/label" % job_id,
+                          {"label": label, "reason": reason, "by": by}, write=True)
+
+    def clear_label(self, job_id, by, reason=None):
+        """Removes the person's label: the classifier's is the run's label again."""
+        body = {"by": by} if reason is None else {"by": by, "reason": reason}
+        return self._json("DELETE", "/jobs/%d/label" % job_id, body, write=True)
+
+    def labels(self, job_id):
+        """{"human_label", "classifier", "changes" (newest first), "total"} of one run."""
+        return self._json("GET", "/jobs/%d/label" % job_id)
+
+    def label_audit(self, job=None, limit=100, offset=0):
+        """Every change of a human label, newest first: {"changes", "total", ...}."""
+        return self._json("GET", "/labels/audit", query={"job": job, "limit": limit, "offset": offset})
+
+    def export_archive(self, sweep, path):
+        """Writes the sweep's export file (schema/sweep-export.md) that another server
+        imports; returns the path."""
+        sweep_id = sweep["id"] if isinstance(sweep, dict) else sweep
+        data = self._call("GET", "/sweeps/%d/export" % sweep_id, query={"format": "archive"})
+        with open(path, "wb") as f:
+            f.write(data)
+        return path
+
+    def import_archive(self, path):
+        """Merges an export file into this server's database (submit token); returns the
+        outcome {"sweep_id", "added", "identical", "conflicts", "changed", ...}."""
+        with open(path, "rb") as f:
+            body = json.loads(f.read())
+        return self._json("POST", "/imports", body, write=True)
+
     def artifacts(self, job_id):
         """The files of the job's result bundle: [{"name", "content_type", "size", "url"}]."""
         return self._json("GET", "/jobs/%d/artifacts" % job_id)["artifacts"]
