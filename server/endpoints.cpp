@@ -15,7 +15,7 @@ const std::vector<std::pair<const Endpoint*, std::regex>>& table() {
          {&create_sweep, &list_sweeps, &show_sweep, &cancel_sweep, &export_sweep, &estimate_sweep,
           &list_jobs, &show_job, &list_artifacts, &artifact, &phase_map, &phase_regions, &lease,
           &heartbeat, &complete, &fail, &release, &put_checkpoint, &get_checkpoint, &health, &metrics, &api_metrics, &openapi,
-          &presets, &limits}) {
+          &presets, &limits, &set_label, &clear_label, &show_label, &label_audit, &import_sweep}) {
       out.emplace_back(e, std::regex(e->pattern));
     }
     return out;
@@ -37,6 +37,10 @@ void add_route(httplib::Server& server, const Endpoint& e, Handler handler) {
   const std::string method = e.method;
   if (method == "GET") {
     server.Get(e.pattern, guarded(std::move(handler)));
+  } else if (method == "PUT") {
+    server.Put(e.pattern, guarded(std::move(handler)));
+  } else if (method == "DELETE") {
+    server.Delete(e.pattern, guarded(std::move(handler)));
   } else {
     server.Post(e.pattern, guarded(std::move(handler)));
   }

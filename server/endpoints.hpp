@@ -19,7 +19,7 @@ enum class TokenKind { none, submit, worker };
 enum class BodyKind { none, json, multipart };
 
 struct Endpoint {
-  const char* method;   // "GET" or "POST"
+  const char* method;   // "GET", "POST", "PUT" or "DELETE"
   const char* pattern;  // cpp-httplib's regex of the path
   TokenKind token;
   BodyKind body;
@@ -63,6 +63,12 @@ inline constexpr Endpoint api_metrics   {"GET",  "/api/v1/metrics",             
 inline constexpr Endpoint openapi       {"GET",  "/api/v1/openapi.yaml",                TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint presets       {"GET",  "/api/v1/presets",                     TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint limits        {"GET",  "/api/v1/limits",                      TokenKind::none,   BodyKind::none,      no_body_bytes};
+// Human labels (routes_labels.cpp) and imports of another server's export (routes_imports.cpp).
+inline constexpr Endpoint set_label     {"PUT",  R"(/api/v1/jobs/(\d+)/label)",         TokenKind::submit, BodyKind::json,      small_body_bytes};
+inline constexpr Endpoint clear_label   {"DELETE", R"(/api/v1/jobs/(\d+)/label)",       TokenKind::submit, BodyKind::json,      small_body_bytes};
+inline constexpr Endpoint show_label    {"GET",  R"(/api/v1/jobs/(\d+)/label)",         TokenKind::none,   BodyKind::none,      no_body_bytes};
+inline constexpr Endpoint label_audit   {"GET",  "/api/v1/labels/audit",                TokenKind::none,   BodyKind::none,      no_body_bytes};
+inline constexpr Endpoint import_sweep  {"POST", "/api/v1/imports",                     TokenKind::submit, BodyKind::json,      upload_body_bytes};
 // clang-format on
 }  // namespace endpoints
 

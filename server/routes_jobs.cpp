@@ -77,6 +77,11 @@ void register_job_routes(httplib::Server& server, App& app) {
                const auto j = app.store.reads.job(path_id(req, 1, "job"));
                if (!j) throw ApiError(404, "id", "no such job");
                json out = views::job_detail(*j);
+               // Results of the same computation from other servers that differ from this one.
+               out["conflicting_results"] = json::array();
+               for (const std::string& c : app.store.imports.conflicts(j->job.id)) {
+                 out["conflicting_results"].push_back(json::parse(c));
+               }
                add_checkpoint_detail(app, j->job.id, out);
                send_json(res, 200, out);
              });

@@ -113,6 +113,8 @@ void register_all_routes(httplib::Server& server, App& app) {
   register_queue_routes(server, app);
   register_checkpoint_routes(server, app);
   register_service_routes(server, app);
+  register_label_routes(server, app);
+  register_import_routes(server, app);
 
   // Unknown paths and methods: a JSON error (the handlers' own errors already have a body).
   // Errors cpp-httplib found itself (before or instead of a handler): the field is the part

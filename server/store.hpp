@@ -7,6 +7,8 @@
 #include <string>
 
 #include "checkpoint_store.hpp"
+#include "import_store.hpp"
+#include "label_store.hpp"
 #include "queue_store.hpp"
 #include "store_db.hpp"
 #include "store_reads.hpp"
@@ -17,7 +19,7 @@ namespace compaction::server {
 struct Store {
   // Opens the database and applies the pending migrations.
   Store(const std::string& path, StoreConfig config)
-      : db(path, std::move(config)), queue(db), sweeps(db), reads(db),
+      : db(path, std::move(config)), queue(db), sweeps(db), reads(db), labels(db), imports(db),
         checkpoints(db, path + ".checkpoints") {}
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
@@ -28,6 +30,8 @@ struct Store {
   QueueStore queue;
   SweepStore sweeps;
   StoreReads reads;
+  LabelStore labels;    // human labels and their audit
+  ImportStore imports;  // merges another server's export
   CheckpointStore checkpoints;  // checkpoints of runs and their resumes
 };
 
