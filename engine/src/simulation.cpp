@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <stdexcept>
 
 #include "checkpoint.hpp"
@@ -67,8 +68,14 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   RunResult r = start_result(p, s);
   RunPosition at;  // where the loop stands; a resumed run takes it from the checkpoint
   if (!control.resume_file.empty()) {
-    const CheckpointInfo resumed = restore_checkpoint(control.resume_file, p, s, r, at);
+    std::string movie;
+    const CheckpointInfo resumed = restore_checkpoint(control.resume_file, p, s, r, at, &movie);
     recorder.resume_snapshots(at.snapshots_passed);
+    if (at.movie_frames > 0 && !control.movie_file.empty()) {
+      // the movie as the checkpoint had it, then the recorder goes on after its frames
+      std::ofstream(control.movie_file, std::ios::binary | std::ios::trunc) << movie;
+      recorder.resume_movie(at.movie_frames);
+    }
     if (control.on_resume) control.on_resume(resumed);
   }
 
@@ -88,10 +95,12 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   // Between two steps: the state a checkpoint holds (it changes nothing of the run).
   auto checkpoint = [&] {
     at.snapshots_passed = recorder.snapshots_passed();
+    at.movie_frames = recorder.movie_frames();
     RunPosition saved = at;
     saved.wall_seconds += seconds_since(t0);
     saved.loop_seconds += seconds_since(t_loop);
-    const CheckpointInfo info = write_checkpoint(control.checkpoint_file, p, s, r, saved);
+    const CheckpointInfo info =
+        write_checkpoint(control.checkpoint_file, p, s, r, saved, control.movie_file);
     last_checkpoint = std::chrono::steady_clock::now();
     if (control.on_checkpoint) control.on_checkpoint(info);
   };

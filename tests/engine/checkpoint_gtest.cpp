@@ -1,6 +1,7 @@
 // Checkpoints: a run stopped and resumed from its checkpoint ends with the bits of an
 // uninterrupted run (every output: frames, both maps, snapshots, counts), whether it stopped
-// at a frame's end or within a frame, once or twice; a checkpoint of another scene, of another
+// at a frame's end or within a frame, once or twice; the movie of a run resumed in another
+// folder (another machine) is the uninterrupted run's; a checkpoint of another scene, of another
 // engine version, damaged or not a checkpoint at all is refused with a reason. Exact: the
 // resumed run must repeat the same floating-point operations on the same bits.
 #include <gtest/gtest.h>
@@ -166,6 +167,33 @@ TEST_F(CheckpointGtest, RunResumedFromWithinAFrameGivesTheBitsOfAnUninterruptedR
   EXPECT_GT(mid.eps, mid.frames * p.d_eps);  // within a frame
 
   expect_same_result(whole, resume_to_end(p, path("mid.ckpt")));
+}
+
+TEST_F(CheckpointGtest, AMovieResumedInAnotherFolderIsTheUninterruptedRunsMovie) {
+  SceneParams p = small_scene();
+  p.movie_d_eps = 0.004;  // frames at 0.004, 0.008, ...: two before the stop, three after
+  RunControl whole;
+  whole.movie_file = path("whole.bin");
+  ASSERT_EQ(run_scene(p, whole).status, RunStatus::ok);
+
+  std::atomic<bool> cancel{false};
+  RunControl first;
+  first.cancel = &cancel;
+  first.checkpoint_file = path("a.ckpt");
+  first.movie_file = path("first.bin");
+  first.on_progress = [&](const Progress& pr) {
+    if (pr.eps >= 5 * p.d_eps - 1e-12) cancel = true;
+  };
+  ASSERT_EQ(run_scene(p, first).status, RunStatus::cancelled);
+
+  // another machine: the first session's movie file is not there
+  RunControl second;
+  second.resume_file = path("a.ckpt");
+  second.movie_file = path("elsewhere.bin");
+  ASSERT_EQ(run_scene(p, second).status, RunStatus::ok);
+  const std::string a = read_bytes(path("whole.bin")), b = read_bytes(path("elsewhere.bin"));
+  EXPECT_GT(a.size(), 96u);
+  EXPECT_TRUE(a == b) << a.size() << " bytes against " << b.size();
 }
 
 TEST_F(CheckpointGtest, CheckpointOfAnotherSceneIsRefusedNamingTheField) {
