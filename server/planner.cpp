@@ -23,7 +23,8 @@ namespace {
 const std::set<std::string> numerics_keys = {
     "preset", "cells_per_strut", "cells_per_unit", "particles_per_cell", "cfl", "transfer",
     "movie_d_eps",
-    "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed"};
+    "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed",
+    "structure", "seeds"};
 
 const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",
                                             "priority", "max_attempts", "adaptive"};
@@ -49,8 +50,32 @@ int integer_in(const json& body, const char* key, int fallback, int lo, int hi) 
   return static_cast<int>(i);
 }
 
-// The scene every point starts from: preset, then the explicit numerics over it.
-SceneParams base_scene(const json& body, std::string& preset_name) {
+// numerics.seeds: 1 to kMaxSeeds distinct non-negative integers.
+std::vector<std::uint64_t> seed_list(const json& v) {
+  if (!v.is_array()) invalid("numerics.seeds", "must be an array of seeds, got " + describe(v));
+  if (v.empty() || v.size() > kMaxSeeds) {
+    invalid("numerics.seeds", "must hold 1 to " + std::to_string(kMaxSeeds) + " seeds, got " +
+                                  std::to_string(v.size()));
+  }
+  std::vector<std::uint64_t> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string field = "numerics.seeds[" + std::to_string(i) + "]";
+    if (!v[i].is_number_unsigned()) {  // as compaction::from_json reads seed
+      invalid(field, "must be a non-negative integer, got " + describe(v[i]));
+    }
+    const auto seed = v[i].get<std::uint64_t>();
+    if (std::find(out.begin(), out.end(), seed) != out.end()) {
+      invalid(field, "repeats seed " + std::to_string(seed));
+    }
+    out.push_back(seed);
+  }
+  return out;
+}
+
+// The scene every point starts from: preset, then the explicit numerics over it; `seeds` the
+// seeds of numerics.seeds (empty without it: each point runs once with the scene's seed).
+SceneParams base_scene(const json& body, std::string& preset_name,
+                       std::vector<std::uint64_t>& seeds) {
   json numerics = json::object();
   if (body.contains("numerics")) {
     numerics = body["numerics"];
@@ -58,6 +83,12 @@ SceneParams base_scene(const json& body, std::string& preset_name) {
   }
   for (const auto& [key, value] : numerics.items()) {
     if (!numerics_keys.count(key)) invalid("numerics." + key, "unknown numerics key");
+  }
+  seeds.clear();
+  if (numerics.contains("seeds")) {
+    if (numerics.contains("seed")) invalid("numerics.seeds", "give seed or seeds, not both");
+    seeds = seed_list(numerics["seeds"]);
+    numerics.erase("seeds");
   }
   preset_name = std::string(default_preset_name);
   if (numerics.contains("preset")) {
@@ -88,6 +119,11 @@ SceneParams base_scene(const json& body, std::string& preset_name) {
     std::vector<FieldError> named;
     for (auto& e : errors) named.push_back({"numerics." + e.field, e.message});
     throw ApiError(422, std::move(named));
+  }
+  if (seeds.size() > 1 && scene.structure == Structure::regular && scene.perturbation == 0.0) {
+    invalid("numerics.seeds",
+            "the seed changes nothing in a regular structure without perturbation: set "
+            "numerics.structure to \"random\" (or a perturbation)");
   }
   return scene;
 }
@@ -236,7 +272,9 @@ std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
                                          const std::vector<adaptive::Point>& points,
                                          const PlannerLimits& limits) {
   std::string preset;
-  const SceneParams base = base_scene(plan.request, preset);
+  std::vector<std::uint64_t> seeds;
+  SceneParams base = base_scene(plan.request, preset, seeds);
+  if (!seeds.empty()) base.seed = seeds.front();  // an adaptive sweep takes one seed
   const double phi = plan.scenes.empty() ? base.phi : plan.scenes.front().phi;
   std::vector<SceneParams> out;
   for (const adaptive::Point& pt : points) out.push_back(make_scene(base, pt.S, pt.R, phi, "", limits));
@@ -261,12 +299,29 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
   plan.priority = integer_in(body, "priority", kDefaultPriority, kPriorityMin, kPriorityMax);
   plan.max_attempts = integer_in(body, "max_attempts", kDefaultMaxAttempts, 1, limits.max_attempts);
 
-  const SceneParams base = base_scene(body, plan.preset);
+  std::vector<std::uint64_t> seeds;
+  const SceneParams base = base_scene(body, plan.preset, seeds);
+  // Each point once per seed of numerics.seeds, in the order given (else once).
+  const std::size_t per_point = std::max<std::size_t>(1, seeds.size());
+  auto check_count = [&](std::size_t points) {
+    if (per_point > 1 && static_cast<double>(points) * per_point > limits.max_points) {
+      invalid("numerics.seeds", std::to_string(points) + " points x " + std::to_string(per_point) +
+                                    " seeds exceed the sweep limit of " +
+                                    std::to_string(limits.max_points) + " runs", 413);
+    }
+  };
 
   const bool has_points = body.contains("points");
   std::set<std::string> seen;
-  auto add = [&](SceneParams p) {
+  auto add_one = [&](SceneParams p) {
     if (seen.insert(canonical_scene(p)).second) plan.scenes.push_back(std::move(p));
+  };
+  auto add = [&](SceneParams p) {
+    if (seeds.empty()) return add_one(std::move(p));
+    for (std::uint64_t seed : seeds) {
+      p.seed = seed;
+      add_one(p);
+    }
   };
 
   if (body.contains("adaptive")) {
@@ -280,6 +335,10 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
     const auto phi = expand_axis(body["phi"], "phi", limits.max_points);
     if (phi.size() != 1) {
       invalid("phi", "an adaptive sweep maps one phi, got " + std::to_string(phi.size()) + " values");
+    }
+    if (seeds.size() > 1) {
+      invalid("numerics.seeds", "an adaptive sweep maps one structure: give one seed "
+                                "(numerics.seed), got " + std::to_string(seeds.size()));
     }
     plan.adaptive = adaptive::parse_spec(body["adaptive"], limits.max_points);
     for (const adaptive::Point& pt : adaptive::initial_points(*plan.adaptive)) {
@@ -299,6 +358,7 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
       invalid("points", std::to_string(points.size()) + " points exceed the sweep limit of " +
                             std::to_string(limits.max_points), 413);
     }
+    check_count(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
       const std::string where = "points[" + std::to_string(i) + "].";
       const json& pt = points[i];
@@ -327,6 +387,7 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
                          " x " + std::to_string(phi.size()) + " points exceeds the sweep limit of " +
                          std::to_string(limits.max_points), 413);
   }
+  check_count(static_cast<std::size_t>(total));
   for (double f : phi) {
     for (double r : R) {
       for (double s : S) {

@@ -6,6 +6,7 @@
 //    "R": [1e-5, 1e-3],                                             explicit values
 //    "phi": 0.4,                                                    one value
 //    "numerics": {"preset": "fast", "cells_per_unit": 8, "eps_end": 0.05, ...},
+//                 ("structure": "random", "seeds": [1, 2, 3] runs each point once per seed)
 //    "priority": 0, "max_attempts": 3}
 //
 // or an adaptive sweep over one phi, which starts from a grid and grows where labels differ
@@ -36,6 +37,7 @@ namespace compaction::server {
 inline constexpr std::size_t kMaxNameBytes = 200;
 inline constexpr int kPriorityMin = -1000, kPriorityMax = 1000, kDefaultPriority = 0;
 inline constexpr int kDefaultMaxAttempts = 3;
+inline constexpr std::size_t kMaxSeeds = 100;  // numerics.seeds: seeds per point
 
 struct PlannerLimits {
   std::size_t max_points = 2000;  // scenes per sweep

@@ -242,7 +242,7 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
       " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps, " +
       feature_number("band_speed_error") + ", " + feature_number("band_speed_transit") + ", " +
-      feature_number("band_speed_transit_error") + ", h.label" +
+      feature_number("band_speed_transit_error") + ", h.label, json_extract(j.scene, '$.structure')" +
       " FROM" + job_tables +
       " WHERE j.phi BETWEEN ?1 - 1e-9 AND ?1 + 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
@@ -270,6 +270,7 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
     p.band_speed_transit = s.opt_real(15);
     p.band_speed_transit_error = s.opt_real(16);
     p.human_label = s.opt_text(17);
+    if (auto structure = s.opt_text(18)) p.structure = *structure;
     points.push_back(std::move(p));
   }
   return points;

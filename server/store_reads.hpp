@@ -91,6 +91,7 @@ struct PhaseMapPoint {
   std::optional<std::int64_t> n_reflections;
   std::int64_t job_id = 0, cells_per_unit = 0;
   std::optional<std::string> human_label;  // a person's label; `cls` stays the classifier's
+  std::string structure = "regular";  // the scene's voids; scenes older than the key: regular
 };
 
 struct ArtifactInfo {

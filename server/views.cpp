@@ -198,6 +198,7 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.key("runner_up").value(p.runner_up);
     t.key("state").value(p.state);
     t.key("status").value(p.status);
+    t.key("structure").value(p.structure);
     t.out += '}';
   }
   t.out += "]}";

@@ -15,7 +15,8 @@ const point = (job_id, extra) => ({
 
 const POINTS = [
   point(1, { class: 'a', S: 0.03, R: 1e-3, band_speed_ratio: 1.73, band_speed_error: 0.008, band_speed_transit: 1.694, band_speed_transit_error: 0.016 }),
-  point(2, { class: 'b', S: 0.01, R: 1e-2, n_reflections: 3, band_speed_ratio: 3.57, band_speed_error: 0.15, band_speed_transit: 3.49, band_speed_transit_error: 0.03 }),
+  // a random structure: a square marker, as in the paper's Fig. 3 (the others are regular: circles)
+  point(2, { class: 'b', S: 0.01, R: 1e-2, n_reflections: 3, band_speed_ratio: 3.57, band_speed_error: 0.15, band_speed_transit: 3.49, band_speed_transit_error: 0.03, structure: 'random' }),
   point(3, { class: 'b', S: 0.02, R: 3e-3, n_reflections: 1, band_speed_ratio: 2.5 }), // no uncertainty
   point(4, { class: 'a', S: 0.05, R: 1e-4 }), // no band speed measured
   point(5, { class: 'a', S: 0.04, R: 2e-4, band_speed_ratio: -0.4, band_speed_error: 0.1, band_speed_transit: -0.3, band_speed_transit_error: 0.1 }),
@@ -96,6 +97,22 @@ test('the band-speed page plots bands only, with an error bar per band, and says
     assert.deepEqual(legend, [1, 1, 1, 1, 0, 0, 0], 'N_r of the plotted bands: 0, 1, 2 and 3');
     await shot(page, '10-band-speed-fit');
 
+    // Marker shapes: run 2 (random) a square, the rest (regular) circles. The canvas holds only
+    // the markers; 5 px right and down of a centre lies inside the 11 px square and outside the
+    // circle of radius 6 and its 1.2 px outline (7.07 px from the centre).
+    assert.deepEqual(Object.fromEntries(fit.plotted.map((q) => [q.job_id, q.shape])), { 1: 'circle', 2: 'square', 3: 'circle', 9: 'circle' });
+    const alphaAt = (x, y) => page.evaluate(({ x, y }) => {
+      const c = document.querySelector('#bands-plot canvas');
+      const dpr = c.width / c.clientWidth;
+      return c.getContext('2d').getImageData(Math.round(x * dpr), Math.round(y * dpr), 1, 1).data[3];
+    }, { x, y });
+    for (const q of fit.plotted) {
+      const corner = await alphaAt(q.x + 5, q.y + 5);
+      if (q.shape === 'square') assert.equal(corner, 255, `run ${q.job_id}: the square's corner is drawn`);
+      else assert.equal(corner, 0, `run ${q.job_id}: a circle leaves the corner empty`);
+      assert.equal(await alphaAt(q.x, q.y), 255, `run ${q.job_id}: the marker's centre is drawn`);
+    }
+
     // Hover: both readings with their uncertainties.
     const one = fit.plotted.find((q) => q.job_id === 1);
     const box = await page.locator('#bands-plot canvas').boundingBox();
@@ -105,6 +122,7 @@ test('the band-speed page plots bands only, with an error bar per band, and says
     assert.match(tip, /run 1/);
     assert.match(tip, /1\.730 ± 0\.008/);
     assert.match(tip, /1\.694 ± 0\.016/);
+    assert.match(tip, /structure\s+regular/);
     await page.mouse.move(box.x + 2, box.y + 2);
 
     // The transit reading: runs 3 and 4 have none, run 5's is negative.

@@ -132,6 +132,37 @@ test('the server refuses what the form leaves to it at the fields the form maps'
   assert.equal(formFieldOf(r.json.error.field), 'res');
 });
 
+test('a random structure with seeds runs each point once per seed; the form refuses what the planner refuses', async () => {
+  const random = { ...base, preset: 'default', structure: 'random' };
+  const r = validateSweep({ ...random, seeds: '1, 2, 3' });
+  assert.equal(r.ok, true, JSON.stringify(r.errors));
+  assert.equal(r.count, 45); // 3 S x 5 R x 1 phi x 3 seeds
+  assert.deepEqual(r.body.numerics, { preset: 'default', structure: 'random', seeds: [1, 2, 3] });
+  assert.deepEqual(validateSweep({ ...random, seeds: '7' }).body.numerics, { preset: 'default', structure: 'random', seed: 7 });
+  assert.deepEqual(validateSweep({ ...random, seeds: '' }).body.numerics, { preset: 'default', structure: 'random' });
+  assert.deepEqual(validateSweep({ ...base, structure: 'regular' }).body.numerics, { preset: 'fast' });
+  assert.match(validateSweep({ ...base, seeds: '1, 2' }).errors.seeds, /random structure/);
+  assert.match(validateSweep({ ...random, seeds: '1, -2' }).errors.seeds, /whole numbers/);
+  assert.match(validateSweep({ ...random, seeds: '1, 1.5' }).errors.seeds, /whole numbers/);
+  assert.match(validateSweep({ ...random, seeds: '4, 4' }).errors.seeds, /twice/);
+  const many = Array.from({ length: limits.sweep.max_seeds + 1 }, (_, i) => i).join(',');
+  assert.match(validateSweep({ ...random, seeds: many }).errors.seeds, new RegExp(`at most ${limits.sweep.max_seeds}`));
+  assert.match(validateAdaptive({ ...adaptiveBase, structure: 'random', seeds: '1, 2' }).errors.seeds, /one seed/);
+  assert.equal(formFieldOf('numerics.structure'), 'structure');
+  assert.equal(formFieldOf('numerics.seed'), 'seeds');
+  assert.equal(formFieldOf('numerics.seeds[1]'), 'seeds');
+  // The server plans the form's body: 45 runs, each with its structure and seed.
+  const ok = await harness.api('/sweeps', { ...r.body, name: 'random seeds', numerics: { ...r.body.numerics, eps_end: 0.01 } });
+  assert.equal(ok.status, 201, JSON.stringify(ok.json));
+  const jobs = await harness.api(`/jobs?sweep=${ok.json.id}&limit=100`);
+  assert.equal(jobs.json.jobs.length, 45);
+  assert.deepEqual([...new Set(jobs.json.jobs.map((j) => `${j.scene.structure}/${j.scene.seed}`))].sort(), ['random/1', 'random/2', 'random/3']);
+  // The fast preset leaves a random structure's thinnest strut under a grid cell: the server names the field the form maps.
+  const coarse = await harness.api('/sweeps', { ...r.body, numerics: { ...r.body.numerics, preset: 'fast' } });
+  assert.equal(coarse.status, 422, JSON.stringify(coarse.json));
+  assert.equal(formFieldOf(coarse.json.error.field), 'cps');
+});
+
 test('the movie interval is 0 or in the range of /limits, sent as numerics.movie_d_eps; one below d_eps is refused by the server at the field', async () => {
   const m = limits.scene.movie_d_eps;
   assert.deepEqual([m.lo, m.hi, m.none, m.default], [0.001, 0.5, 0, 0.02]);

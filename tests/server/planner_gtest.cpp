@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "api_error.hpp"
 
 using namespace compaction::server;
@@ -170,6 +172,83 @@ TEST(Planner, TheIdentityIgnoresThreadsButNotNumerics) {
   b.cells_per_unit = 8;
   EXPECT_NE(job_identity(a, "v1"), job_identity(b, "v1"));
   EXPECT_NE(job_identity(a, "v1"), job_identity(a, "v2"));
+}
+
+TEST(Planner, TheIdentityHoldsTheStructureAndItsSeed) {
+  compaction::SceneParams a, b;
+  b.structure = compaction::Structure::random;
+  EXPECT_NE(job_identity(a, "v1"), job_identity(b, "v1"));
+  EXPECT_NE(canonical_scene(b).find("\"structure\":\"random\""), std::string::npos);
+  compaction::SceneParams c = b;
+  c.seed = 2;
+  EXPECT_NE(job_identity(b, "v1"), job_identity(c, "v1"));
+}
+
+// Seeds as a parsed body holds them (non-negative integers parse as unsigned, which is what
+// compaction::from_json takes for seed): json::parse, or 1u in code.
+TEST(Planner, RandomStructuresRunEveryPointOncePerSeed) {
+  json b = grid();
+  b["numerics"] = {{"preset", "default"}, {"eps_end", 0.05}, {"structure", "random"},
+                   {"seeds", json::parse("[5, 1, 9]")}};
+  const SweepPlan p = plan_sweep(b);
+  ASSERT_EQ(p.scenes.size(), 18u);  // 3 S x 2 R x 3 seeds
+  std::set<std::string> identities;
+  for (std::size_t i = 0; i < p.scenes.size(); ++i) {
+    EXPECT_EQ(p.scenes[i].structure, compaction::Structure::random);
+    EXPECT_EQ(p.scenes[i].seed, (std::vector<std::uint64_t>{5, 1, 9})[i % 3]) << i;
+    identities.insert(job_identity(p.scenes[i], "v1"));
+  }
+  EXPECT_EQ(identities.size(), 18u);
+  EXPECT_EQ(p.scenes[0].S, p.scenes[2].S);  // the seeds of a point follow one another
+  b["numerics"].erase("seeds");
+  b["numerics"]["seed"] = 4u;
+  const SweepPlan one = plan_sweep(b);
+  ASSERT_EQ(one.scenes.size(), 6u);
+  EXPECT_EQ(one.scenes[0].seed, 4u);
+}
+
+TEST(Planner, StructureAndSeedsAreValidatedWithTheirField) {
+  auto with = [](json numerics) {
+    json b = grid();
+    numerics["preset"] = "default";
+    b["numerics"] = numerics;
+    return b;
+  };
+  const auto bad = [&](json numerics, const char* field) {
+    EXPECT_EQ(error_of(with(numerics)), std::make_pair(422, std::string(field))) << numerics.dump();
+  };
+  bad({{"structure", "voronoi"}}, "numerics.structure");
+  bad({{"structure", "random"}, {"seeds", "1,2"}}, "numerics.seeds");
+  bad({{"structure", "random"}, {"seeds", json::array()}}, "numerics.seeds");
+  const json two = json::parse("[1, 2]");
+  bad({{"structure", "random"}, {"seeds", json::parse("[1, -2]")}}, "numerics.seeds[1]");
+  bad({{"structure", "random"}, {"seeds", json::parse("[1, 2.5]")}}, "numerics.seeds[1]");
+  bad({{"structure", "random"}, {"seeds", json::parse("[3, 3]")}}, "numerics.seeds[1]");
+  bad({{"structure", "random"}, {"seeds", two}, {"seed", 1u}}, "numerics.seeds");
+  bad({{"seeds", two}}, "numerics.seeds");  // a regular structure: the seed changes nothing
+  bad({{"structure", "random"}, {"seed", -1}}, "numerics.seed");
+  json fast = grid();  // the fast preset leaves the thinnest random strut under a cell
+  fast["numerics"]["structure"] = "random";
+  EXPECT_EQ(error_of(fast), std::make_pair(422, std::string("numerics.cells_per_strut")));
+  json many = with({{"structure", "random"}, {"seeds", json::array()}});
+  for (std::size_t i = 0; i <= kMaxSeeds; ++i) many["numerics"]["seeds"].push_back(i);
+  EXPECT_EQ(error_of(many), std::make_pair(422, std::string("numerics.seeds")));
+  // A regular structure with a perturbation has seeds that matter.
+  EXPECT_EQ(error_of(with({{"seeds", two}, {"perturbation", 0.1}})).first, 0);
+  PlannerLimits limits;
+  limits.max_points = 10;  // 6 points x 2 seeds
+  EXPECT_EQ(error_of(with({{"structure", "random"}, {"seeds", two}}), limits),
+            std::make_pair(413, std::string("numerics.seeds")));
+  json adaptive = json::parse(R"({"name": "map", "phi": 0.4,
+      "numerics": {"preset": "default", "structure": "random", "seeds": [1, 2]},
+      "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
+                   "initial": {"S": 3, "R": 3}, "resolution_decades": 0.5, "budget": 20}})");
+  EXPECT_EQ(error_of(adaptive), std::make_pair(422, std::string("numerics.seeds")));
+  adaptive["numerics"]["seeds"] = json::parse("[7]");
+  const SweepPlan p = plan_sweep(adaptive);
+  ASSERT_FALSE(p.scenes.empty());
+  EXPECT_EQ(p.scenes[0].seed, 7u);
+  EXPECT_EQ(adaptive_scenes(p, {{0.01, 1e-3}})[0].seed, 7u);
 }
 
 TEST(Planner, AnAdaptiveSweepStartsWithItsInitialGridAtItsPhi) {

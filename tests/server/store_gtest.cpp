@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 
 #include "compaction/result.hpp"
 #include "migrations.hpp"
@@ -244,6 +245,26 @@ TEST_F(StoreTest, PhaseMapListsTheJobsAtOnePhiWithTheirLabels) {
   EXPECT_EQ(phase_map_of(store, 0.5, std::nullopt)["points"].size(), 1u);
 }
 
+// Random structures are squares on the band-speed plot: the map names each point's structure,
+// and a scene stored before the key existed is regular.
+TEST_F(StoreTest, PhaseMapNamesEachPointsStructure) {
+  store.sweeps.create(plan(points({0.01})), t0);
+  json random = points({0.01, 0.02});
+  random["numerics"]["cells_per_unit"] = 12;  // the thinnest random strut needs a grid cell
+  random["numerics"]["structure"] = "random";
+  random["numerics"]["seeds"] = json::parse("[1, 2]");
+  store.sweeps.create(plan(random), t0);
+  {
+    sqlite::Database db(dir.file("jobs.db"));
+    db.prepare("UPDATE jobs SET scene = json_remove(scene, '$.structure') WHERE id = 1").run();
+  }
+  const json map = phase_map_of(store, 0.4, std::nullopt);
+  ASSERT_EQ(map["points"].size(), 5u);
+  std::map<std::string, int> by_structure;
+  for (const json& p : map["points"]) by_structure[p["structure"].get<std::string>()]++;
+  EXPECT_EQ(by_structure, (std::map<std::string, int>{{"random", 4}, {"regular", 1}}));
+}
+
 TEST_F(StoreTest, PhaseMapCarriesBothReadingsOfTheBandSpeedWithTheirUncertainties) {
   store.sweeps.create(plan(points({0.01, 0.02, 0.03})), t0);
   const auto complete = [&](const json& features) {
@@ -412,7 +433,8 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
                      {"job_id", p.job_id}, {"status", opt(p.status)},
                      {"cells_per_unit", p.cells_per_unit},
                      {"cells_per_strut", p.cells_per_unit * compaction::strut_fraction(p.phi)},
-                     {"eps_end", p.eps_end}, {"progress_eps", opt(p.progress_eps)}});
+                     {"eps_end", p.eps_end}, {"progress_eps", opt(p.progress_eps)},
+                     {"human_label", opt(p.human_label)}, {"structure", p.structure}});
     }
     return json{{"phi", phi}, {"points", out}}.dump(-1, ' ', false, json::error_handler_t::replace);
   };
@@ -422,6 +444,7 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
   done.confidence = 1.0, done.band_speed_ratio = 1.7300000000000002, done.band_speed_error = 3e-300;
   done.band_speed_transit = -0.5, done.band_speed_transit_error = 12345678.0;
   done.n_reflections = 3, done.progress_eps = 0.2, done.job_id = 42, done.cells_per_unit = 20;
+  done.human_label = "c", done.structure = "random";
   PhaseMapPoint queued;
   queued.S = 0.001 + 1e-4 * 7 + (0.09 - 0.001) / 49 * 13, queued.R = 1.0 / 3.0, queued.phi = 0.55, queued.eps_end = 1;
   queued.state = "queued", queued.job_id = 7, queued.cells_per_unit = 8;

@@ -86,6 +86,26 @@ function numericsOf(v, scene, phis, errors) {
   return numerics;
 }
 
+// The structure and its seeds: numerics.structure when random, numerics.seed for one seed and
+// numerics.seeds for several (each point then runs once per seed; docs/service.md). Returns the
+// runs per point. A regular structure (the form has no perturbation) takes no seeds: they would
+// change nothing.
+function structureOf(v, sweep, numerics, oneSeed, errors) {
+  const random = v.structure === 'random';
+  if (random) numerics.structure = 'random';
+  const text = (v.seeds || '').trim();
+  if (text === '') return 1;
+  const seeds = text.split(/[\s,;]+/).filter(Boolean).map(Number);
+  if (!random) errors.seeds = 'seeds draw random structures: choose the random structure, or leave this empty';
+  else if (seeds.some((x) => !isInt(x) || x < 0 || x > Number.MAX_SAFE_INTEGER)) errors.seeds = 'whole numbers ≥ 0, separated by commas';
+  else if (new Set(seeds).size !== seeds.length) errors.seeds = 'a seed is listed twice';
+  else if (seeds.length > sweep.max_seeds) errors.seeds = `at most ${sweep.max_seeds} seeds`;
+  else if (oneSeed && seeds.length > 1) errors.seeds = 'an adaptive sweep maps one structure: one seed';
+  else if (seeds.length === 1) numerics.seed = seeds[0];
+  else numerics.seeds = seeds;
+  return errors.seeds ? 1 : seeds.length;
+}
+
 // An empty field takes `dflt`; otherwise a whole number in [lo, hi].
 function wholeIn(text, dflt, lo, hi, id, errors) {
   const n = (text || '').trim() === '' ? dflt : num(text);
@@ -102,7 +122,7 @@ function queueOf(v, sweep, errors) {
 }
 
 // values: strings of the form fields; limits: the server's GET /api/v1/limits.
-// Returns {errors: {fieldId: message}, body, count, dims}.
+// Returns {errors: {fieldId: message}, body, count (points x seeds), dims}.
 export function validateSweep(v, limits) {
   const { sweep, scene } = limits;
   const errors = {};
@@ -111,11 +131,12 @@ export function validateSweep(v, limits) {
   const R = axis(v, 'r', 'R', scene.R, sweep.max_points, errors);
   const phis = phiValues(v, scene, errors);
   const numerics = numericsOf(v, scene, phis, errors);
+  const perPoint = structureOf(v, sweep, numerics, false, errors);
   const queue = queueOf(v, sweep, errors);
 
   const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
   const nPhi = errors.phi ? 0 : phis.length;
-  const count = nS * nR * nPhi;
+  const count = nS * nR * nPhi * perPoint;
   if (count > sweep.max_points && !errors['s-n'] && !errors['r-n']) errors.count = `${count} jobs exceed the server's limit of ${sweep.max_points} per sweep`;
   const body = {
     name,
@@ -160,6 +181,7 @@ export function validateAdaptive(v, limits) {
   const phis = phiValues(v, scene, errors);
   if (!errors.phi && phis.length > 1) errors.phi = `an adaptive sweep maps one φ, got ${phis.length}`;
   const numerics = numericsOf(v, scene, phis, errors);
+  structureOf(v, sweep, numerics, true, errors);
   const queue = queueOf(v, sweep, errors);
 
   const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
@@ -204,6 +226,8 @@ export function formFieldOf(serverField) {
   if (f === 'numerics.movie_d_eps') return 'movie';
   if (f === 'numerics.snapshot_eps' || f.startsWith('numerics.snapshot_eps')) return 'snapshots';
   if (f === 'numerics.preset' || f === 'numerics') return 'preset';
+  if (f === 'numerics.structure') return 'structure';
+  if (f === 'numerics.seed' || f.startsWith('numerics.seeds')) return 'seeds';
   if (f === 'name' || f === 'priority') return f;
   if (f === 'max_attempts') return 'attempts';
   return null;

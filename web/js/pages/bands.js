@@ -74,7 +74,8 @@ function pageHtml() {
         <h2 class="legend-title">Reflections <i>N</i><sub>r</sub></h2>
         <ul class="legend" id="bands-legend"></ul>
         <p class="hint">Dashed: a non-reflecting band, <i>c</i><sub>b</sub>/<i>V</i> = 1/(1 − φ). Reflecting bands are faster and grow as a power law of <i>R</i>/<i>S</i>².
-          Bars: ± the uncertainty of <i>c</i><sub>b</sub>/<i>V</i>; a bar without a cap runs off the axis.</p>
+          Bars: ± the uncertainty of <i>c</i><sub>b</sub>/<i>V</i>; a bar without a cap runs off the axis.
+          Circles: regular structures; squares: random structures (as in the paper's Fig. 3).</p>
       </aside>
     </div>`;
 }
@@ -104,6 +105,10 @@ function drawErrorBars(plot, drawn) {
   }
 }
 
+// A run's marker as the paper's Fig. 3 draws it: a square for a random structure, a circle for a
+// regular one (and for results whose scene predates the structure key).
+export const markerShape = (p) => (p.structure === 'random' ? 'square' : 'circle');
+
 // The markers on the canvas, coloured by N_r; returns the count per colour of the legend.
 function drawMarkers(plot, drawn) {
   const counts = {};
@@ -112,7 +117,8 @@ function drawMarkers(plot, drawn) {
     const n = Math.min(d.p.n_reflections ?? 0, NR_MAX);
     counts[n] = (counts[n] || 0) + 1;
     ctx.beginPath();
-    ctx.arc(d.x, d.y, 6, 0, 2 * Math.PI);
+    if (markerShape(d.p) === 'square') ctx.rect(d.x - 5.5, d.y - 5.5, 11, 11);
+    else ctx.arc(d.x, d.y, 6, 0, 2 * Math.PI);
     ctx.fillStyle = nrColor(d.p.n_reflections ?? 0);
     ctx.fill();
     ctx.lineWidth = 1.2;
@@ -164,6 +170,7 @@ function tooltipHtml(p) {
       <tr><th><i>c</i><sub>b</sub>/<i>V</i> (fit)</th><td>${reading(READINGS.fit)}</td></tr>
       <tr><th><i>c</i><sub>b</sub>/<i>V</i> (transit)</th><td>${reading(READINGS.transit)}</td></tr>
       <tr><th><i>N</i><sub>r</sub></th><td>${p.n_reflections ?? '—'}</td></tr>
+      <tr><th>structure</th><td>${markerShape(p) === 'square' ? 'random' : 'regular'}</td></tr>
       <tr><th>class</th><td>${CLASSES[p.class] ? `<span class="dot" style="background:${CLASSES[p.class].color}"></span>` : ''}${escapeHtml(label(p.class))}</td></tr></table>`;
 }
 
@@ -215,7 +222,7 @@ export function mount(root, params) {
     renderSummary($('bands-summary'), $('bands-left-off'), state.phi, state.points.length, shown, leftOff);
     // For the browser tests: what was drawn and the y axis it was drawn on.
     const hook = (window.__dashboard ||= { renders: [] });
-    hook.bands = { phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1], plotted: drawn.map((d) => ({ job_id: d.p.job_id, x: d.x, y: d.y })) };
+    hook.bands = { phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1], plotted: drawn.map((d) => ({ job_id: d.p.job_id, x: d.x, y: d.y, shape: markerShape(d.p) })) };
   }
 
   function wireCanvas() {

@@ -7,7 +7,7 @@ import { sweepPhis } from '../sweepmath.js';
 import { when, escapeHtml, duration } from '../format.js';
 
 const POLL_MS = 2500;
-const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
+const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'structure', 'seeds', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
 
 // The form (each field with its hint and error line) and the card of the list. The form's
 // data-mode ("grid" or "adaptive") shows the .grid-only or the .adaptive-only parts
@@ -49,6 +49,10 @@ function pageHtml() {
           <div class="row2">
             ${field('phi', 'Solid fraction φ', numIn('phi', '0.4'), byMode('one value or a list: 0.3, 0.4, 0.5', 'one value'))}
             ${field('preset', 'Numerics preset', '<select id="f-preset" name="preset"><option value="fast">fast</option><option value="default" selected>default</option><option value="reference">reference</option></select>', '<span id="preset-note"></span>')}
+          </div>
+          <div class="row2">
+            ${field('structure', 'Structure', '<select id="f-structure" name="structure"><option value="regular" selected>regular</option><option value="random">random</option></select>', 'random: void sizes and centres drawn from the seed')}
+            ${field('seeds', 'Seeds', numIn('seeds', '', 'placeholder="1"'), byMode('random only; a list runs each point once per seed: 1, 2, 3', 'random only; one seed'))}
           </div>
           <fieldset class="adaptive-only"><legend>Refinement <span class="unit">on log S and log R</span></legend>
             <div class="row3">
@@ -101,7 +105,7 @@ export function mount(root) {
   const values = () => ({
     name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
     rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
-    phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
+    phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, structure: $('f-structure').value, seeds: $('f-seeds').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
     snapshots: $('f-snapshots').value, movie: $('f-movie').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
   });
 
@@ -158,7 +162,10 @@ export function mount(root) {
     const jobs = `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'}`;
     const countError = r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : '';
     if (r.count <= 0) cnt.innerHTML = '<span class="muted">fix the ranges to see the number of jobs</span>';
-    else if (!adaptive) cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ</span>${countError}`;
+    else if (!adaptive) {
+      const seeds = r.count / (a * b * c);
+      cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ${seeds > 1 ? ` × ${seeds} seeds` : ''}</span>${countError}`;
+    }
     else {
       const most = r.errors.budget ? '' : `, at most ${r.budget.toLocaleString()}`;
       cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R</div>${countError}`;
@@ -318,7 +325,7 @@ function sweepRowHtml(s) {
   // An adaptive sweep's total grows as the server adds points, up to its budget.
   const of = ad ? `<span class="budget" data-budget="${ad.budget}">${c.total} of at most ${ad.budget} runs</span>` : `of ${c.total}`;
   return `<tr data-sweep="${s.id}" class="sw-${s.state}">
-    <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}</div></td>
+    <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}${rq.numerics?.structure === 'random' ? ` · random structure, ${rq.numerics.seeds ? `${rq.numerics.seeds.length} seeds` : `seed ${rq.numerics.seed ?? 1}`}` : ''}</div></td>
     <td class="small">${grid}<div class="muted">φ = ${sweepPhis(rq).join(', ')}</div></td>
     <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
     <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>

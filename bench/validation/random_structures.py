@@ -1,0 +1,148 @@
+#!/usr/bin/python3
+"""The paper's generality claim for random structures: label and band speed do not deviate
+significantly from the regular structure of the same porosity.
+
+The six examples (bench/lib/examples.py, phi = 0.4, pseudo-1D, to full density eps = 0.6, the
+`default` preset's 4.5 cells across the regular strut) on the regular structure and on random
+structures of --seeds (structure = random: void areas and centres drawn from the seed,
+random_structure in engine/include/compaction/params.hpp, docs/engine.md). It writes, per
+example, the label with its confidence, N_r and both readings of c_b/V (docs/classifier.md) of
+the regular run and of each seed, the realised phi of each random structure (phi_discrete of
+summary.json) and each c_b/V against the regular one.
+
+  bench/validation/random_structures.py --seeds 1,2,3 --jobs 1 --bin build/bin
+
+Runs go one example at a time, the cheapest first (e, c, then a, b, f, then d), each on the
+regular structure and its seeds, cached in --work; the report is rewritten after each example,
+so an interrupted study keeps whole comparisons of the examples it finished and a second call
+goes on from there. Runs not made yet are listed as such.
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+from examples import EXAMPLES, PHI  # noqa: E402
+
+CELLS_PER_STRUT = 4.5  # the default preset (server/presets.cpp)
+SAME_SPEED = 0.10      # |c_b/V / regular - 1| the summary counts as the same band speed
+
+
+def fmt(v, digits=3):
+    return "-" if v is None else "%.*g" % (digits, v)
+
+
+def scene(example, seed=None):
+    S, R = EXAMPLES[example]
+    flags = {"S": S, "R": R, "phi": PHI, "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - PHI,
+             "snapshot_eps": ""}
+    if seed is not None:
+        flags.update(structure="random", seed=seed)
+    return flags
+
+
+def name(example, seed=None):
+    return "%s-regular" % example if seed is None else "%s-random-seed%d" % (example, seed)
+
+
+def reading(bundle, classify_bin):
+    """What the report shows of one run, or None when it is not made yet."""
+    if not runs.finished(bundle):
+        return None
+    s = runs.summary(bundle)
+    c = runs.classify(bundle, classify_bin)
+    f = c.get("features") or {}
+    return {"label": c.get("class") or "none", "confidence": c.get("confidence"),
+            "n_r": c.get("n_reflections"), "fit": f.get("band_speed_ratio"),
+            "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
+            "transit_err": f.get("band_speed_transit_error"), "phi": s["phi_discrete"],
+            "wall": s["wall_seconds"], "status": s["status"]}
+
+
+def against(v, ref):
+    if v is None or ref is None or ref == 0:
+        return "-"
+    return "%+.0f %%" % (100 * (v / ref - 1))
+
+
+def report(a, examples, seeds, classify_bin):
+    work = lambda ex, seed=None: os.path.join(a.work, name(ex, seed))  # noqa: E731
+    lines = ["# Random structures against the regular one (phi = 0.4, default preset)", "",
+             "Made by `bench/validation/random_structures.py %s`. The six examples of the paper, "
+             "pseudo-1D (34 voids), to full density (eps = 0.6), %g cells across the regular "
+             "strut (20 cells per unit cell, the `default` preset), one thread per run, one run "
+             "at a time. Random structures: each void's area uniform in (1 -+ 0.3) x L^2 (1 - phi) "
+             "in antithetic pairs, its centre moved uniformly within the room that keeps half the "
+             "thinnest strut (half the regular strut) to its cell's edges (docs/engine.md, "
+             "\"Random structures\"). phi realised: the particles' solid fraction "
+             "(phi_discrete of summary.json). c_b/V in both readings (fit: slope of the leading "
+             "edge before its first turn; transit: mean speed of the first leg; "
+             "docs/classifier.md) with their uncertainty; \"against regular\" is the transit "
+             "reading over the regular structure's." % (" ".join(sys.argv[1:]), CELLS_PER_STRUT), "",
+             "| example | structure | phi realised | label (confidence) | N_r | c_b/V fit | c_b/V transit | transit against regular | wall [s] |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    same_label = same_speed = compared = speeds = 0
+    missing = []
+    for ex in examples:
+        ref = reading(work(ex), classify_bin)
+        for seed in [None] + seeds:
+            r = ref if seed is None else reading(work(ex, seed), classify_bin)
+            structure = "regular" if seed is None else "random, seed %d" % seed
+            if r is None:
+                missing.append("(%s) %s" % (ex, structure))
+                lines.append("| (%s) | %s | not run yet | | | | | | |" % (ex, structure))
+                continue
+            if seed is not None and ref is not None:
+                compared += 1
+                same_label += r["label"] == ref["label"]
+                if r["transit"] is not None and ref["transit"]:
+                    speeds += 1
+                    same_speed += abs(r["transit"] / ref["transit"] - 1) <= SAME_SPEED
+            lines.append("| (%s) | %s | %.4f | %s (%s) | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
+                ex, structure, r["phi"], r["label"], fmt(r["confidence"], 2), fmt(r["n_r"]),
+                fmt(r["fit"]), fmt(r["fit_err"], 2), fmt(r["transit"]), fmt(r["transit_err"], 2),
+                "-" if seed is None or ref is None else against(r["transit"], ref["transit"]),
+                r["wall"]))
+    lines += ["", "Random runs with the regular structure's label: %d of %d; with a transit c_b/V "
+              "within %d %% of the regular one: %d of %d that have both readings."
+              % (same_label, compared, round(100 * SAME_SPEED), same_speed, speeds)]
+    if missing:
+        lines += ["", "Not run yet: %s." % ", ".join(missing)]
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines), flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seeds", default="1,2,3")
+    ap.add_argument("--examples", default=",".join(EXAMPLES))
+    ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "random-structures"))
+    ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "random-structures.md"))
+    a = ap.parse_args()
+    try:
+        seeds = [int(s) for s in a.seeds.split(",") if s]
+    except ValueError:
+        ap.error("--seeds: a comma list of non-negative integers, got %r" % a.seeds)
+    if not seeds or min(seeds) < 0:
+        ap.error("--seeds: a comma list of non-negative integers, got %r" % a.seeds)
+    examples = [e for e in a.examples.split(",") if e]
+    for e in examples:
+        if e not in EXAMPLES:
+            ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
+    run = os.path.join(a.bin, "compaction-run")
+    classify_bin = os.path.join(a.bin, "compaction-classify")
+    # The cheapest example first (steps ~ 1 / S at one grid), each on the regular structure and
+    # then seed by seed, so that a study stopped early has whole comparisons of the examples it
+    # reached.
+    for e in sorted(examples, key=lambda e: 1 / EXAMPLES[e][0]):
+        group = {name(e, seed): scene(e, seed) for seed in [None] + seeds}
+        runs.run_all(a.work, group, jobs=a.jobs, run=run)
+        report(a, examples, seeds, classify_bin)
+
+
+if __name__ == "__main__":
+    main()
