@@ -39,46 +39,11 @@ std::string random_hex(int bytes) {
   return s;
 }
 
-void insert_result(sqlite::Database& w, std::int64_t job_id, const ImportedRun& run,
-                   const std::vector<std::string>& paths, Millis now) {
-  const ResultRecord& r = run.result;
-  w.prepare(
-       "INSERT INTO results (job_id, status, reason, scene, engine_version, source_revision,"
-       " class, confidence, runner_up, n_reflections, band_speed_ratio, features, eps_reached,"
-       " wall_seconds, summary, worker, created_at, origin_database, origin_job, imported_at)"
-       " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
-      .bind(1, job_id)
-      .bind(2, r.status)
-      .bind(3, r.reason)
-      .bind(4, r.scene)
-      .bind(5, r.engine_version)
-      .bind(6, r.source_revision)
-      .bind(7, r.cls)
-      .bind(8, r.confidence)
-      .bind(9, r.runner_up)
-      .bind(10, r.n_reflections)
-      .bind(11, r.band_speed_ratio)
-      .bind(12, r.features)
-      .bind(13, r.eps_reached)
-      .bind(14, r.wall_seconds)
-      .bind(15, r.summary)
-      .bind(16, run.worker)
-      .bind(17, run.result_created_at)
-      .bind(18, run.origin_database)
-      .bind(19, run.origin_job)
-      .bind(20, now)
-      .run();
-  auto art = w.prepare(
-      "INSERT INTO artifacts (job_id, name, content_type, size, data, path) VALUES (?, ?, ?, ?, X'', ?)");
-  for (std::size_t i = 0; i < r.artifacts.size(); ++i) {
-    art.reset();
-    art.bind(1, job_id)
-        .bind(2, r.artifacts[i].name)
-        .bind(3, r.artifacts[i].content_type)
-        .bind(4, static_cast<std::int64_t>(r.artifacts[i].data.size()))
-        .bind(5, paths[i])
-        .run();
-  }
+// The imported result with its files, its computing server's worker and time, and its origin.
+void insert_imported(sqlite::Database& w, std::int64_t job_id, const ImportedRun& run,
+                     const std::vector<std::string>& paths, Millis now) {
+  insert_result(w, job_id, run.result, run.worker, run.result_created_at, paths,
+                ResultOrigin{run.origin_database, run.origin_job, now});
 }
 
 std::string provenance_note(const ImportedRun& run) {
@@ -238,7 +203,7 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
           .bind(17, run.finished_at)
           .run();
       job_id = w.last_insert_rowid();
-      insert_result(w, job_id, run, written[i]->paths, now);
+      insert_imported(w, job_id, run, written[i]->paths, now);
       log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
                 provenance_note(run));
       guard.keep.insert(written[i]->folder);
@@ -251,7 +216,7 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
           .bind(4, run.started_at)
           .bind(5, run.finished_at)
           .run();
-      insert_result(w, job_id, run, written[i]->paths, now);
+      insert_imported(w, job_id, run, written[i]->paths, now);
       log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
                 provenance_note(run) + " (was " + state + ")");
       guard.keep.insert(written[i]->folder);

@@ -36,6 +36,50 @@ LeaseCheck missing_or_lost(sqlite::Database& db, std::int64_t job_id) {
 
 }  // namespace
 
+void insert_result(sqlite::Database& w, std::int64_t job_id, const ResultRecord& r,
+                   const std::string& worker, Millis created_at,
+                   const std::vector<std::string>& paths, const std::optional<ResultOrigin>& origin) {
+  w.prepare(
+       "INSERT INTO results (job_id, status, reason, scene, engine_version, source_revision,"
+       " class, confidence, runner_up, n_reflections, band_speed_ratio, features, eps_reached,"
+       " wall_seconds, summary, worker, created_at, origin_database, origin_job, imported_at)"
+       " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
+      .bind(1, job_id)
+      .bind(2, r.status)
+      .bind(3, r.reason)
+      .bind(4, r.scene)
+      .bind(5, r.engine_version)
+      .bind(6, r.source_revision)
+      .bind(7, r.cls)
+      .bind(8, r.confidence)
+      .bind(9, r.runner_up)
+      .bind(10, r.n_reflections)
+      .bind(11, r.band_speed_ratio)
+      .bind(12, r.features)
+      .bind(13, r.eps_reached)
+      .bind(14, r.wall_seconds)
+      .bind(15, r.summary)
+      .bind(16, worker)
+      .bind(17, created_at)
+      .bind(18, origin ? std::optional<std::string>(origin->database) : std::nullopt)
+      .bind(19, origin ? std::optional<std::int64_t>(origin->job) : std::nullopt)
+      .bind(20, origin ? std::optional<Millis>(origin->imported_at) : std::nullopt)
+      .run();
+  auto art = w.prepare(
+      "INSERT INTO artifacts (job_id, name, content_type, size, data, path)"
+      " VALUES (?, ?, ?, ?, X'', ?)");
+  for (std::size_t i = 0; i < r.artifacts.size(); ++i) {
+    const Artifact& a = r.artifacts[i];
+    art.reset();
+    art.bind(1, job_id)
+        .bind(2, a.name)
+        .bind(3, a.content_type)
+        .bind(4, static_cast<std::int64_t>(a.data.size()))
+        .bind(5, paths[i])
+        .run();
+  }
+}
+
 Millis QueueStore::backoff(int attempts) const {
   Millis d = db_.config.backoff_base_ms;
   for (int i = 1; i < attempts && d < db_.config.backoff_max_ms; ++i) d *= 2;
@@ -114,43 +158,7 @@ LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
   const int attempt = static_cast<int>(s.int64(0));
   const std::string worker = s.text(1);
   s.run();
-  // The primary key on results.job_id refuses a second result: it can never be overwritten.
-  db_.writer.prepare(
-        "INSERT INTO results (job_id, status, reason, scene, engine_version, source_revision,"
-        " class, confidence, runner_up, n_reflections, band_speed_ratio, features, eps_reached,"
-        " wall_seconds, summary, worker, created_at)"
-        " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
-      .bind(1, job_id)
-      .bind(2, r.status)
-      .bind(3, r.reason)
-      .bind(4, r.scene)
-      .bind(5, r.engine_version)
-      .bind(6, r.source_revision)
-      .bind(7, r.cls)
-      .bind(8, r.confidence)
-      .bind(9, r.runner_up)
-      .bind(10, r.n_reflections)
-      .bind(11, r.band_speed_ratio)
-      .bind(12, r.features)
-      .bind(13, r.eps_reached)
-      .bind(14, r.wall_seconds)
-      .bind(15, r.summary)
-      .bind(16, worker)
-      .bind(17, now)
-      .run();
-  auto art = db_.writer.prepare(
-      "INSERT INTO artifacts (job_id, name, content_type, size, data, path)"
-      " VALUES (?, ?, ?, ?, X'', ?)");
-  for (std::size_t i = 0; i < r.artifacts.size(); ++i) {
-    const Artifact& a = r.artifacts[i];
-    art.reset();
-    art.bind(1, job_id)
-        .bind(2, a.name)
-        .bind(3, a.content_type)
-        .bind(4, static_cast<std::int64_t>(a.data.size()))
-        .bind(5, paths[i])
-        .run();
-  }
+  insert_result(db_.writer, job_id, r, worker, now, paths);
   log_event(db_.writer, job_id, now, "succeeded", attempt, worker,
             r.status == "ok" ? "" : "unstable: " + r.reason);
   tx.commit();

@@ -44,6 +44,21 @@ struct ResultRecord {
   std::vector<Artifact> artifacts;
 };
 
+// Where an imported result was computed (import_store.hpp); none for a result computed here.
+struct ResultOrigin {
+  std::string database;  // the computing database's id
+  std::int64_t job = 0;  // the job's id there
+  Millis imported_at = 0;
+};
+
+// Inserts a result and its artifact rows (the files already written, at `paths` in the order of
+// r.artifacts) inside the caller's write transaction. The primary key on results.job_id refuses
+// a second result: a result is never overwritten.
+void insert_result(sqlite::Database& writer, std::int64_t job_id, const ResultRecord& r,
+                   const std::string& worker, Millis created_at,
+                   const std::vector<std::string>& paths,
+                   const std::optional<ResultOrigin>& origin = std::nullopt);
+
 enum class LeaseCheck {
   ok,
   unknown_job,  // no such job
