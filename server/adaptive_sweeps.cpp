@@ -35,7 +35,54 @@ void split_jobs(const std::vector<JobRecord>& jobs, std::vector<adaptive::Labell
   }
 }
 
+// An adaptive sweep as the planner reads it: its plan from the stored request and its jobs
+// split into finished and pending points.
+struct SweepState {
+  SweepPlan plan;
+  bool cancelled = false;
+  std::vector<adaptive::Labelled> done;
+  std::vector<adaptive::Point> pending;
+};
+
+// nullopt for no such sweep or one that is not adaptive; ApiError from plan_sweep when the
+// request no longer plans under the server's limits.
+std::optional<SweepState> load(Store& store, const PlannerLimits& limits, std::int64_t sweep_id) {
+  const auto sweep = store.reads.sweep(sweep_id);
+  if (!sweep) return std::nullopt;
+  const json request = json::parse(sweep->request);
+  if (!request.contains("adaptive")) return std::nullopt;
+  SweepState s;
+  s.plan = plan_sweep(request, limits);
+  s.cancelled = sweep->cancelled_at.has_value();
+  const auto jobs = store.reads.sweep_jobs(sweep_id);
+  if (!jobs) return std::nullopt;
+  split_jobs(*jobs, s.done, s.pending);
+  return s;
+}
+
 }  // namespace
+
+std::optional<PlanReport> AdaptiveSweeps::report(Store& store, const PlannerLimits& limits,
+                                                 std::int64_t sweep_id) {
+  const auto sweep = store.reads.sweep(sweep_id);
+  if (!sweep) return std::nullopt;
+  std::optional<SweepState> s;
+  try {
+    s = load(store, limits, sweep_id);
+  } catch (const ApiError& e) {
+    throw ApiError(409, "id", "the sweep's request no longer plans under this server's limits (" +
+                                  e.field + ": " + e.what() + ")");
+  }
+  if (!s) throw ApiError(409, "id", "sweep " + std::to_string(sweep_id) + " is not adaptive");
+  PlanReport r;
+  r.spec = *s->plan.adaptive;
+  r.done = s->done.size();
+  r.pending = s->pending.size();
+  r.cancelled = s->cancelled;
+  r.resolved = adaptive::resolved(r.spec, s->done);
+  r.candidates = adaptive::ranked_candidates(r.spec, s->done, s->pending);
+  return r;
+}
 
 std::size_t AdaptiveSweeps::advance(Store& store, const PlannerLimits& limits,
                                     std::int64_t sweep_id, Millis now) {
@@ -55,24 +102,19 @@ void AdaptiveSweeps::plan_more(Store& store, const PlannerLimits& limits, std::i
                                Millis now, std::size_t& added) {
   // Each round adds at least one point the sweep did not hold, and the budget bounds them.
   while (true) {
-    const auto sweep = store.reads.sweep(sweep_id);
-    if (!sweep || sweep->cancelled_at) return;
-    const json request = json::parse(sweep->request);
-    if (!request.contains("adaptive")) return;
-    SweepPlan plan;
+    std::optional<SweepState> s;
     try {
-      plan = plan_sweep(request, limits);
+      s = load(store, limits, sweep_id);
     } catch (const ApiError& e) {
       // Accepted once, refused now: the server's limits changed since (e.g. --max-sweep-points).
       spdlog::error("adaptive sweep {}: its request no longer plans ({}: {}); not advanced",
                     sweep_id, e.field, e.what());
       return;
     }
-    const auto jobs = store.reads.sweep_jobs(sweep_id);
-    if (!jobs) return;
-    std::vector<adaptive::Labelled> done;
-    std::vector<adaptive::Point> pending;
-    split_jobs(*jobs, done, pending);
+    if (!s || s->cancelled) return;
+    const SweepPlan& plan = s->plan;
+    const auto& done = s->done;
+    const auto& pending = s->pending;
     const std::size_t room =
         plan.adaptive->in_flight > pending.size() ? plan.adaptive->in_flight - pending.size() : 0;
     const auto points = adaptive::next_points(*plan.adaptive, done, pending, room);

@@ -7,12 +7,25 @@
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
+#include <optional>
+#include <vector>
 
+#include "adaptive_plan.hpp"
 #include "clock.hpp"
 #include "planner.hpp"
 #include "store.hpp"
 
 namespace compaction::server {
+
+// What the planner sees of an adaptive sweep now (GET /api/v1/sweeps/{id}/plan).
+struct PlanReport {
+  adaptive::AdaptiveSpec spec;
+  std::size_t done = 0;     // finished runs: succeeded, failed for good or cancelled
+  std::size_t pending = 0;  // queued or running
+  bool cancelled = false;
+  bool resolved = false;    // adaptive::resolved over the finished runs
+  std::vector<adaptive::Proposal> candidates;  // every point worth running now, best first
+};
 
 class AdaptiveSweeps {
  public:
@@ -26,6 +39,10 @@ class AdaptiveSweeps {
   // advance() for every live adaptive sweep: at start (a result may have been stored just before
   // the server stopped) and after leases expire (a job may have failed for good).
   void advance_all(Store& store, const PlannerLimits& limits, Millis now);
+  // The sweep's plan as the next advance() would see it; nullopt for no such sweep, ApiError
+  // 409 (field "id") for a sweep that is not adaptive.
+  static std::optional<PlanReport> report(Store& store, const PlannerLimits& limits,
+                                          std::int64_t sweep_id);
 
  private:
   void plan_more(Store& store, const PlannerLimits& limits, std::int64_t sweep_id, Millis now,

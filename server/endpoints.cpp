@@ -13,9 +13,10 @@ const std::vector<std::pair<const Endpoint*, std::regex>>& table() {
     std::vector<std::pair<const Endpoint*, std::regex>> out;
     for (const Endpoint* e :
          {&create_sweep, &list_sweeps, &show_sweep, &cancel_sweep, &export_sweep, &estimate_sweep,
-          &list_jobs, &show_job, &list_artifacts, &artifact, &phase_map, &phase_regions, &lease,
-          &heartbeat, &complete, &fail, &release, &put_checkpoint, &get_checkpoint, &health, &metrics, &api_metrics, &openapi,
-          &presets, &limits, &set_label, &clear_label, &show_label, &label_audit, &import_sweep}) {
+          &sweep_plan, &list_jobs, &show_job, &list_artifacts, &artifact, &phase_map,
+          &phase_regions, &lease, &heartbeat, &complete, &fail, &release, &put_checkpoint,
+          &get_checkpoint, &health, &metrics, &api_metrics, &openapi, &presets, &limits,
+          &set_label, &clear_label, &show_label, &label_audit, &import_sweep}) {
       out.emplace_back(e, std::regex(e->pattern));
     }
     return out;

@@ -44,6 +44,7 @@ inline constexpr Endpoint cancel_sweep  {"POST", R"(/api/v1/sweeps/(\d+)/cancel)
 inline constexpr Endpoint export_sweep  {"GET",  R"(/api/v1/sweeps/(\d+)/export)",      TokenKind::none,   BodyKind::none,      no_body_bytes};
 // Writes nothing: no token; a sweep's body, as create_sweep.
 inline constexpr Endpoint estimate_sweep{"POST", "/api/v1/sweeps/estimate",             TokenKind::none,   BodyKind::json,      sweep_body_bytes};
+inline constexpr Endpoint sweep_plan    {"GET",  R"(/api/v1/sweeps/(\d+)/plan)",        TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint list_jobs     {"GET",  "/api/v1/jobs",                        TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint show_job      {"GET",  R"(/api/v1/jobs/(\d+))",               TokenKind::none,   BodyKind::none,      no_body_bytes};
 inline constexpr Endpoint list_artifacts{"GET",  R"(/api/v1/jobs/(\d+)/artifacts)",     TokenKind::none,   BodyKind::none,      no_body_bytes};

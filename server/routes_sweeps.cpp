@@ -1,5 +1,5 @@
-// /api/v1/sweeps: create (grid or points), list (through the answer cache: ETag,
-// If-None-Match), show with progress counts, cancel, export.
+// /api/v1/sweeps: create (grid, points or adaptive), list (through the answer cache: ETag,
+// If-None-Match), show with progress counts, an adaptive sweep's plan, cancel, export.
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -124,6 +124,15 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                 spdlog::info("sweep cancelled id={} jobs_cancelled={}", id, *cancelled);
                 send_json(res, 200, views::cancelled_sweep(id, *cancelled));
               });
+
+  add_route(server, endpoints::sweep_plan,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const std::int64_t id = path_id(req, 1, "sweep");
+               const int limit = query_int(req, "limit", 20, 0, 1000);
+               const auto report = AdaptiveSweeps::report(app.store, app.limits, id);
+               if (!report) throw ApiError(404, "id", "no such sweep");
+               send_json(res, 200, views::sweep_plan(id, *report, static_cast<std::size_t>(limit)));
+             });
 
   add_route(server, endpoints::export_sweep,
              [&app](const httplib::Request& req, httplib::Response& res) {

@@ -1,5 +1,6 @@
 #include "views.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -92,6 +93,45 @@ json created_sweep(const SweepRecord& s, const CreatedSweep& c, const std::strin
 
 json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs) {
   return {{"id", id}, {"cancelled_jobs", cancelled_jobs}};
+}
+
+json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
+  // Where the sweep stands. "planning": nothing pending, but points worth running and budget
+  // for them, which the planner is adding (a result has just been stored; the jobs follow in
+  // the next transaction). Once neither is left, the runs decide.
+  const std::size_t budget_left = r.spec.budget - std::min(r.spec.budget, r.done + r.pending);
+  const char* state = r.cancelled                                  ? "cancelled"
+                      : r.pending > 0                              ? "running"
+                      : !r.candidates.empty() && budget_left > 0   ? "planning"
+                      : r.resolved                                 ? "resolved"
+                      : budget_left == 0                           ? "budget_spent"
+                                                                   : "unresolved";
+  const adaptive::Steps steps = adaptive::finest_steps(r.spec);
+  // The lattice of the finest steps, both ends included: the full grid that resolves every
+  // boundary as finely as the sweep does.
+  const auto nodes = [](const adaptive::AxisRange& a, double step) {
+    return static_cast<long long>(std::llround(std::log10(a.max / a.min) / step)) + 1;
+  };
+  const long long n_S = nodes(r.spec.S, steps.S), n_R = nodes(r.spec.R, steps.R);
+  json candidates = json::array();
+  for (std::size_t i = 0; i < r.candidates.size() && i < limit; ++i) {
+    const adaptive::Proposal& p = r.candidates[i];
+    candidates.push_back({{"S", p.point.S}, {"R", p.point.R}, {"value", p.value}});
+  }
+  return {{"id", id},
+          {"state", state},
+          {"resolved", r.resolved},
+          {"runs", {{"done", r.done},
+                    {"pending", r.pending},
+                    {"budget", r.spec.budget},
+                    {"budget_left", budget_left}}},
+          {"lattice", {{"step_S_decades", steps.S},
+                       {"step_R_decades", steps.R},
+                       {"S", n_S},
+                       {"R", n_R},
+                       {"points", n_S * n_R}}},
+          {"candidates_total", r.candidates.size()},
+          {"candidates", candidates}};
 }
 
 json job(const JobRecord& j) {

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "adaptive_sweeps.hpp"
 #include "phase_regions.hpp"
 #include "store_reads.hpp"
 #include "sweep_store.hpp"
@@ -18,6 +19,9 @@ nlohmann::json sweep(const SweepRecord& s);
 nlohmann::json sweeps(const Page<SweepRecord>& page, int limit, int offset);
 nlohmann::json created_sweep(const SweepRecord& s, const CreatedSweep& c, const std::string& preset);
 nlohmann::json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs);
+// An adaptive sweep's plan: its state, runs against the budget and the equivalent full grid,
+// and the first `limit` of the candidates the planner ranks now.
+nlohmann::json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit);
 nlohmann::json job(const JobRecord& j);
 nlohmann::json jobs(const Page<JobRecord>& page, int limit, int offset);
 nlohmann::json job_detail(const JobDetail& d);

@@ -255,6 +255,18 @@ class Client:
         returns {"id", "cancelled_jobs"}."""
         return self._json("POST", "/sweeps/%d/cancel" % _id(sweep), {}, write=True)
 
+    def plan(self, sweep, limit=20):
+        """An adaptive sweep's plan: {"state", "resolved", "runs", "lattice", "candidates_total",
+        "candidates"} (docs/adaptive.md); ApiError 409 for a grid sweep."""
+        return self._json("GET", "/sweeps/%d/plan" % _id(sweep), query={"limit": limit})
+
+    def _adaptive_planning(self, s):
+        # An adaptive sweep reads done for a moment between a result and the points the planner
+        # adds for it; its plan says "planning" then.
+        if "adaptive" not in s.get("request", {}) or s["state"] == "cancelled":
+            return False
+        return self.plan(s["id"], limit=0)["state"] == "planning"
+
     def wait(self, sweep, progress=True, timeout=None, poll=1.0):
         """Polls the sweep every `poll` seconds until no job of it is queued or running (or it
         was cancelled) and returns it as sweep() does. progress: a bar on stderr (done/total,
@@ -268,7 +280,7 @@ class Client:
                 elapsed = time.monotonic() - start
                 if bar:
                     bar.show(s, elapsed)
-                if s["state"] != "active":
+                if s["state"] != "active" and not self._adaptive_planning(s):
                     return s
                 if timeout is not None and elapsed >= timeout:
                     c = s["counts"]

@@ -47,7 +47,12 @@ def finished():
     c = s["counts"]
     seen_totals.append(c["total"])
     check(c["total"] <= BUDGET, "never beyond the budget: %s" % c)
-    return s if c["queued"] + c["running"] == 0 and s["state"] == "done" else None
+    if c["queued"] + c["running"] or s["state"] != "done":
+        return None
+    # The sweep reads done for a moment between a result and the points it makes the planner
+    # add; the plan tells the two apart ("planning").
+    plan = env.get("/api/v1/sweeps/%d/plan" % sid)
+    return s if plan["state"] in ("resolved", "budget_spent", "unresolved") else None
 done = env.wait_for(finished, 240, "the adaptive sweep to finish")
 check(seen_totals == sorted(seen_totals), "the total only grows: %s" % seen_totals)
 
@@ -66,4 +71,15 @@ for a in jobs:
             dS = abs(math.log10(a["S"] / b["S"]))
             dR = abs(math.log10(a["R"] / b["R"]))
             check(dS >= 0.1 - 1e-9 or dR >= 0.1 - 1e-9, "jobs %d and %d too close" % (a["id"], b["id"]))
-print("adaptive sweep: %d runs, initial labels %s" % (len(jobs), sorted(map(str, labels))))
+# The plan over HTTP: finished, so resolved, out of budget or unresolved, never running; its
+# runs are the sweep's, and a grid sweep has no plan.
+plan = env.get("/api/v1/sweeps/%d/plan" % sid)
+check(plan["state"] in ("resolved", "budget_spent", "unresolved"), "a finished plan: %s" % plan)
+check(plan["runs"]["done"] == len(jobs) and plan["runs"]["pending"] == 0, "the plan's runs: %s" % plan)
+check(plan["state"] != "budget_spent" or len(jobs) == BUDGET, "budget_spent at %d runs" % len(jobs))
+check(plan["lattice"]["points"] == plan["lattice"]["S"] * plan["lattice"]["R"] >= len(jobs),
+      "the full grid holds every run: %s" % plan["lattice"])
+grid = env.submit({"name": "grid", "phi": 0.4, "numerics": TINY, "S": 0.05, "R": 1e-3})
+status, out = env.request("GET", "/api/v1/sweeps/%d/plan" % grid["id"])
+check(status == 409 and out["error"]["field"] == "id", "a grid sweep has no plan: %s" % out)
+print("adaptive sweep: %d runs, initial labels %s, plan %s" % (len(jobs), sorted(map(str, labels)), plan["state"]))

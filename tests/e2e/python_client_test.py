@@ -247,6 +247,12 @@ check(grown["counts"]["total"] == 4 and grown["request"]["adaptive"]["budget"] =
 finished = client.wait(grown, progress=False, timeout=120)
 check(4 <= finished["counts"]["total"] <= 6 and finished["state"] == "done",
       "the adaptive sweep ended within its budget: %s" % finished["counts"])
+plan = client.plan(grown)
+check(plan["state"] in ("resolved", "budget_spent", "unresolved")
+      and plan["runs"]["done"] == finished["counts"]["total"],
+      "wait() returns once the plan has ended, not in the moment before points are added: %s" % plan)
+e = raises(lambda: client.plan(sweep), ApiError)
+check(e.status == 409 and e.field == "id", "a grid sweep has no plan: %r" % e)
 
 check(stop(worker, signal.SIGTERM) == 0, "the worker exits 0 on SIGTERM")
 check(stop(env.server, signal.SIGTERM) == 0, "the server exits 0 on SIGTERM")

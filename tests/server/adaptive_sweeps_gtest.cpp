@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "api_error.hpp"
 #include "temp_dir.hpp"
 #include "views.hpp"
 
@@ -128,6 +129,72 @@ TEST_F(AdaptiveSweepsTest, TheBoundaryIsFoundToTheResolutionWithFewerRunsThanThe
   }
   EXPECT_EQ(below, 17);
   EXPECT_EQ(at, 17);
+}
+
+TEST_F(AdaptiveSweepsTest, ThePlanReportsRunsCandidatesAndTheStateAsTheSweepGoes) {
+  const std::int64_t id = create(adaptive_body(400));
+  auto r = AdaptiveSweeps::report(store, limits, id);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->done, 0u);
+  EXPECT_EQ(r->pending, 25u);
+  EXPECT_FALSE(r->resolved);
+  EXPECT_TRUE(r->candidates.empty()) << "every cell has a corner still queued";
+  json v = views::sweep_plan(id, *r, 20);
+  EXPECT_EQ(v["state"], "running");
+  // The lattice at 1/8 decade over 2 x 4 decades: the full grid of the test above.
+  EXPECT_EQ(v["lattice"]["S"], 17);
+  EXPECT_EQ(v["lattice"]["R"], 33);
+  EXPECT_EQ(v["lattice"]["points"], 561);
+  EXPECT_EQ(v["runs"]["budget_left"], 400 - 25);
+
+  // The initial grid done (its jobs run without planning): the cells across R = 1e-3 ask for
+  // points, the most valuable first.
+  for (int i = 0; i < 25; ++i) {
+    const auto lease = store.queue.lease("w", "test-1", ++now);
+    ASSERT_TRUE(lease);
+    ASSERT_EQ(store.queue.complete(lease->job_id, lease->token, labelled_result(*lease), ++now),
+              LeaseCheck::ok);
+  }
+  r = AdaptiveSweeps::report(store, limits, id);
+  EXPECT_EQ(r->done, 25u);
+  EXPECT_EQ(r->pending, 0u);
+  EXPECT_FALSE(r->resolved) << "the labels differ across cells one decade tall";
+  ASSERT_FALSE(r->candidates.empty());
+  for (std::size_t i = 1; i < r->candidates.size(); ++i) {
+    EXPECT_GE(r->candidates[i - 1].value, r->candidates[i].value) << "best first";
+  }
+  for (const auto& c : r->candidates) {
+    EXPECT_LE(std::abs(std::log10(c.point.R) + 3.0), 1.0 + 1e-9) << "beside the boundary";
+  }
+  v = views::sweep_plan(id, *r, 2);
+  EXPECT_EQ(v["state"], "planning") << "nothing pending, points worth running, budget left";
+  EXPECT_EQ(v["candidates"].size(), 2u) << "the limit";
+  EXPECT_EQ(v["candidates_total"], r->candidates.size());
+
+  adaptive.advance(store, limits, id, now);
+  while (run_one()) {
+  }
+  r = AdaptiveSweeps::report(store, limits, id);
+  EXPECT_TRUE(r->resolved);
+  EXPECT_EQ(r->pending, 0u);
+  EXPECT_EQ(views::sweep_plan(id, *r, 20)["state"], "resolved");
+}
+
+TEST_F(AdaptiveSweepsTest, ThePlanOfAGridSweepIsRefusedAndOfNoSweepIsNone) {
+  json grid = adaptive_body(60);
+  grid.erase("adaptive");
+  grid["S"] = 1e-2;
+  grid["R"] = 1e-3;
+  const SweepPlan plan = plan_sweep(grid, limits);
+  const std::int64_t id = store.sweeps.create(sweep_rows(plan, "test-1"), now).id;
+  try {
+    AdaptiveSweeps::report(store, limits, id);
+    ADD_FAILURE() << "a grid sweep has no plan";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.status, 409);
+    EXPECT_EQ(e.field, "id");
+  }
+  EXPECT_FALSE(AdaptiveSweeps::report(store, limits, id + 100));
 }
 
 TEST_F(AdaptiveSweepsTest, PointsOtherSweepsHaveResultsForAreKnownAtOnceAndPlannedPast) {
