@@ -53,7 +53,7 @@ class Out {
   void put_array(const std::vector<T>& v) {
     static_assert(std::is_trivially_copyable_v<T>);
     put(static_cast<std::uint64_t>(v.size()));
-    buf_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) buf_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
   void put_bytes(const std::string& s) { buf_.append(s); }
   std::string& bytes() { return buf_; }
@@ -78,7 +78,7 @@ class In {
     const auto n = get<std::uint64_t>();
     if (n > (end_ - pos_) / sizeof(T)) throw CheckpointRefused("checkpoint truncated (an array)");
     v.resize(n);
-    std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));
+    if (n > 0) std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));  // data() may be null
   }
   // An array that must hold exactly n elements (a particle array).
   template <typename T>
