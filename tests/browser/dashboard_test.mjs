@@ -104,6 +104,17 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
     assert.ok(queued.points.some((p) => p.cat === 'queued'));
     assert.equal(await page.locator('#map-legend li[data-cat="queued"]').getAttribute('data-count'), '1');
     await shot(page, '03-phase-map-queued');
+    // Nothing changes while no worker runs: the polls ask with If-None-Match and get 304s,
+    // and the map stays as it was.
+    const statuses = [];
+    const onResponse = (r) => { if (r.url().includes('/api/v1/phase-map?')) statuses.push(r.status()); };
+    page.on('response', onResponse);
+    await waitFor(() => statuses.filter((s) => s === 304).length >= 2, { timeoutMs: 15000, what: 'two 304 answers to the map\'s polls' });
+    page.off('response', onResponse);
+    assert.ok(statuses.every((s) => s === 200 || s === 304), `poll statuses: ${statuses}`);
+    const still = await mapState(page);
+    assert.equal(still.count, 5);
+    assert.equal(still.counts.queued, 1);
     h.startWorker('w2');
     await waitFor(async () => {
       const m = await mapState(page);
@@ -149,8 +160,14 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
     assert.ok(stress.w >= 400 && stress.h >= 300, `stress plot ${stress.w} x ${stress.h}`);
     assert.deepEqual(stress.series.map((s) => s.s).sort(), ['bottom', 'top']);
     for (const s of stress.series) assert.ok(s.n >= 20 && s.len > 100, `stress series ${s.s}: ${s.n} segments, length ${s.len}`);
-    const snap = await page.locator('#snap-img').evaluate(async (img) => { await img.decode(); return { w: img.naturalWidth, h: img.naturalHeight, cw: img.clientWidth }; });
-    assert.ok(snap.w > 10 && snap.h > 10 && snap.cw > 10, `snapshot ${JSON.stringify(snap)}`);
+    // The snapshot is drawn from its particles (snapshot_*.npy) on a canvas of its own.
+    const snap = await page.locator('#snap-canvas').evaluate((c) => {
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      const colours = new Set();
+      for (let i = 0; i < d.length; i += 4) colours.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+      return { w: c.width, h: c.height, cw: c.clientWidth, colours: colours.size };
+    });
+    assert.ok(snap.w > 10 && snap.h > 10 && snap.cw > 10 && snap.colours > 4, `snapshot ${JSON.stringify(snap)}`);
     assert.ok(await page.locator('#files-box a[href$="spacetime.npy"]').count() === 1, 'download link of spacetime.npy');
     assert.match(await page.locator('#state-box').innerText(), /succeeded/);
     await shot(page, '05-run-detail');

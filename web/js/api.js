@@ -22,18 +22,35 @@ export function setSubmitToken(t) {
   try { t ? localStorage.setItem(TOKEN_KEY, t) : localStorage.removeItem(TOKEN_KEY); } catch { /* private mode */ }
 }
 
+// The last answer of each GET that came with an ETag (the phase map, its regions, the sweeps):
+// polling asks with If-None-Match and a 304 reuses the answer, so an unchanged map costs the
+// server no answer and the page no parse. The oldest entry goes past MAX_REMEMBERED.
+const remembered = new Map(); // path -> { etag, json }
+const MAX_REMEMBERED = 32;
+
+function remember(path, etag, json) {
+  remembered.delete(path);
+  remembered.set(path, { etag, json });
+  if (remembered.size > MAX_REMEMBERED) remembered.delete(remembered.keys().next().value);
+}
+
 async function request(method, path, body) {
   const headers = {};
   if (body !== undefined) headers['Content-Type'] = 'application/json';
   const token = submitToken();
   if (method !== 'GET' && token) headers.Authorization = `Bearer ${token}`;
+  const known = method === 'GET' ? remembered.get(path) : undefined;
+  if (known) headers['If-None-Match'] = known.etag;
   const res = await fetch(BASE + path, {
     method, headers, body: body === undefined ? undefined : JSON.stringify(body), cache: 'no-store',
   });
+  if (res.status === 304 && known) return known.json;
   const text = await res.text();
   let json = null;
   try { json = text ? JSON.parse(text) : null; } catch { json = null; }
   if (!res.ok) throw new ApiError(res.status, json);
+  const etag = res.headers.get('ETag');
+  if (method === 'GET' && etag) remember(path, etag, json);
   return json;
 }
 

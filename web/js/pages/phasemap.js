@@ -256,7 +256,7 @@ export function mount(root, params) {
     sweep: params.sweep || '',
     buckling: params.buckling !== '0',
     regions: params.regions !== '0',
-    points: [], signature: '', presets: [], sweeps: [], updated: null, error: null,
+    points: [], signature: '', answer: null, presets: [], sweeps: [], updated: null, error: null,
     // The last /phase-map/regions answer, the filters it is for, and what it was read from.
     regionData: null, regionFor: '', regionKey: '',
   };
@@ -469,9 +469,11 @@ export function mount(root, params) {
       try {
         const data = await api.phaseMap(state.phi, state.sweep);
         if (!alive) return;
-        const sig = JSON.stringify(data.points);
         state.error = null;
         state.updated = new Date();
+        // An unchanged map comes back as the same object (a 304 to If-None-Match).
+        const sig = data === state.answer ? state.signature : JSON.stringify(data.points);
+        state.answer = data;
         if (sig !== state.signature) {
           state.signature = sig;
           state.points = data.points;
@@ -488,9 +490,9 @@ export function mount(root, params) {
     if (alive) timer = setTimeout(poll, POLL_MS);
   }
 
-  phiSel.addEventListener('change', () => { state.phi = Number(phiSel.value); state.signature = ''; syncUrl(); poll(); });
+  phiSel.addEventListener('change', () => { state.phi = Number(phiSel.value); state.signature = ''; state.answer = null; syncUrl(); poll(); });
   cpuSel.addEventListener('change', () => { state.cpu = cpuSel.value; syncUrl(); render(); loadRegions(); });
-  sweepSel.addEventListener('change', () => { state.sweep = sweepSel.value; state.signature = ''; syncUrl(); poll(); });
+  sweepSel.addEventListener('change', () => { state.sweep = sweepSel.value; state.signature = ''; state.answer = null; syncUrl(); poll(); });
   buck.addEventListener('change', () => { state.buckling = buck.checked; syncUrl(); render(); });
   regionsBox.addEventListener('change', () => { state.regions = regionsBox.checked; syncUrl(); render(); loadRegions(); });
   $('map-export-svg').addEventListener('click', () => exportFigure('svg'));
