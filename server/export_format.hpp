@@ -22,10 +22,17 @@ namespace compaction::server {
 inline constexpr const char* kExportFormat = "compaction-sweep-export";
 inline constexpr int kExportVersion = 1;
 
-// Which artifacts an export carries: all but the particle snapshots (snapshot_*.npy, 20 bytes a
-// particle and frame, the largest files of a bundle, which neither the map nor the run page
-// reads; the run page shows the snapshots' PNGs).
-bool exported_artifact(const std::string& name);
+// Which artifacts an export carries (GET /sweeps/{id}/export?format=archive&artifacts=...).
+enum class ExportArtifacts {
+  // "run_page": all but the particle snapshots (snapshot_*.npy, 20 bytes a particle and frame,
+  // the largest files of a bundle, which neither the map nor the run page reads; the run page
+  // shows the snapshots' PNGs). About 2.5 MB a run at the default preset.
+  run_page,
+  // "none": no file, the results, summaries, labels and provenance only: all the phase map
+  // needs, a few kB a run, small enough to commit a whole map.
+  none,
+};
+bool exported_artifact(const std::string& name, ExportArtifacts which);
 
 // --- writing ---
 
@@ -51,12 +58,14 @@ struct Store;
 // The export of a sweep of the store (its succeeded jobs, their summaries and the exported
 // artifacts); nullopt for an unknown sweep. server: the address the export was asked at.
 std::optional<std::string> export_sweep(Store& store, std::int64_t sweep_id,
-                                        const std::string& server, Millis now);
+                                        const std::string& server, Millis now,
+                                        ExportArtifacts which = ExportArtifacts::run_page);
 
 // The file's text. jobs_without_result counts the sweep's jobs not exported (queued, running,
 // failed, cancelled: nothing to merge).
 std::string write_export(const ExportSource& source, const SweepRecord& sweep,
-                         const std::vector<ExportRun>& runs, std::int64_t jobs_without_result);
+                         const std::vector<ExportRun>& runs, std::int64_t jobs_without_result,
+                         ExportArtifacts which = ExportArtifacts::run_page);
 
 // --- reading ---
 

@@ -3,6 +3,7 @@
 #include "base64.hpp"
 #include "export_format.hpp"
 #include "http_util.hpp"
+#include "json_opt.hpp"
 #include "label_views.hpp"
 #include "store.hpp"
 #include "compaction/result.hpp"
@@ -11,18 +12,14 @@ namespace compaction::server {
 
 using nlohmann::json;
 
-bool exported_artifact(const std::string& name) {
+bool exported_artifact(const std::string& name, ExportArtifacts which) {
+  if (which == ExportArtifacts::none) return false;
   const bool snapshot_npy = name.rfind("snapshot_", 0) == 0 && name.size() > 4 &&
                             name.compare(name.size() - 4, 4, ".npy") == 0;
   return !snapshot_npy;
 }
 
 namespace {
-
-template <typename T>
-json opt(const std::optional<T>& v) {
-  return v ? json(*v) : json(nullptr);
-}
 
 json run_json(const ExportSource& source, const ExportRun& e) {
   const JobRecord& j = e.job;
@@ -69,7 +66,8 @@ json run_json(const ExportSource& source, const ExportRun& e) {
 }  // namespace
 
 std::string write_export(const ExportSource& source, const SweepRecord& sweep,
-                         const std::vector<ExportRun>& runs, std::int64_t jobs_without_result) {
+                         const std::vector<ExportRun>& runs, std::int64_t jobs_without_result,
+                         ExportArtifacts which) {
   // An imported sweep keeps the database and id it was first made as.
   const json origin = sweep.origin_database
                           ? json{{"database", *sweep.origin_database}, {"sweep", opt(sweep.origin_sweep)}}
@@ -91,7 +89,9 @@ std::string write_export(const ExportSource& source, const SweepRecord& sweep,
         {"created_at", sweep.created_at},
         {"origin", origin}}},
       {"jobs_without_result", jobs_without_result},
-      {"artifacts_rule", "every artifact of a run but its particle snapshots (snapshot_*.npy)"}};
+      {"artifacts_rule", which == ExportArtifacts::none
+                             ? "no artifact: results, summaries, labels and provenance only"
+                             : "every artifact of a run but its particle snapshots (snapshot_*.npy)"}};
   // The head's keys, then "runs" last (written as text: one run at a time).
   std::string out = json_text(head);
   out.pop_back();  // the closing brace
@@ -105,7 +105,8 @@ std::string write_export(const ExportSource& source, const SweepRecord& sweep,
 }
 
 std::optional<std::string> export_sweep(Store& store, std::int64_t sweep_id,
-                                        const std::string& server, Millis now) {
+                                        const std::string& server, Millis now,
+                                        ExportArtifacts which) {
   const auto sweep = store.reads.sweep(sweep_id);
   const auto jobs = store.reads.sweep_jobs(sweep_id);
   if (!sweep || !jobs) return std::nullopt;
@@ -127,7 +128,7 @@ std::optional<std::string> export_sweep(Store& store, std::int64_t sweep_id,
     if (!detail || !detail->summary) continue;  // results are never deleted: not reached
     e.summary = *detail->summary;
     for (const ArtifactInfo& a : store.reads.artifacts(j.id).value_or(std::vector<ArtifactInfo>{})) {
-      if (!exported_artifact(a.name)) {
+      if (!exported_artifact(a.name, which)) {
         e.left_out.push_back(a.name);
       } else if (auto bytes = store.reads.artifact(j.id, a.name)) {
         e.artifacts.push_back(std::move(*bytes));
@@ -135,7 +136,7 @@ std::optional<std::string> export_sweep(Store& store, std::int64_t sweep_id,
     }
     runs.push_back(std::move(e));
   }
-  return write_export(source, *sweep, runs, without_result);
+  return write_export(source, *sweep, runs, without_result, which);
 }
 
 }  // namespace compaction::server

@@ -1,15 +1,10 @@
 #include "label_views.hpp"
 
+#include "json_opt.hpp"
+
 namespace compaction::server::views {
 
 using nlohmann::json;
-
-namespace {
-template <typename T>
-json opt(const std::optional<T>& v) {
-  return v ? json(*v) : json(nullptr);
-}
-}  // namespace
 
 json human_label(const std::optional<HumanLabel>& l) {
   if (!l) return nullptr;

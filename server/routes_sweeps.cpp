@@ -142,8 +142,19 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                if (format != "json" && format != "csv" && format != "archive") {
                  throw ApiError(422, "format", "must be \"json\", \"csv\" or \"archive\"");
                }
+               const std::string artifacts =
+                   req.has_param("artifacts") ? req.get_param_value("artifacts") : "run_page";
+               if (artifacts != "run_page" && artifacts != "none") {
+                 throw ApiError(422, "artifacts", "must be \"run_page\" or \"none\"");
+               }
+               if (req.has_param("artifacts") && format != "archive") {
+                 throw ApiError(422, "artifacts", "only with format=archive");
+               }
                if (format == "archive") {  // the file another server imports (export_format.hpp)
-                 const auto file = export_sweep(app.store, id, req.get_header_value("Host"), now_ms());
+                 const auto file =
+                     export_sweep(app.store, id, req.get_header_value("Host"), now_ms(),
+                                  artifacts == "none" ? ExportArtifacts::none
+                                                      : ExportArtifacts::run_page);
                  if (!file) throw ApiError(404, "id", "no such sweep");
                  res.set_header("Content-Disposition",
                                 "attachment; filename=\"sweep-" + std::to_string(id) + ".export.json\"");

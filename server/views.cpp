@@ -6,19 +6,15 @@
 #include <string>
 
 #include "compaction/params.hpp"
-#include "label_views.hpp"
 #include "cost_model.hpp"
+#include "json_opt.hpp"
+#include "label_views.hpp"
 
 namespace compaction::server::views {
 
 using nlohmann::json;
 
 namespace {
-
-template <typename T>
-json opt(const std::optional<T>& v) {
-  return v ? json(*v) : json(nullptr);
-}
 
 // Appends JSON values to a text: a double as the shortest text that reads back as the same
 // double (std::to_chars; integral ones with ".0", as nlohmann writes them), strings through

@@ -319,6 +319,14 @@ class Client:
         columns = list(points[0]) if points else ["S", "R", "phi", "state", "class", "job_id"]
         return _frame(points, columns, frame)
 
+    def regions(self, phi, sweep=None, cells_per_unit=None, grid=None):
+        """The classes the labelled runs predict over the map at phi, with an uncertainty per
+        cell (GET /phase-map/regions): {"grid", "runs", "S": {log_min, log_max}, "R": {...},
+        "classes": [one string of class letters per row of R, '.' none], "uncertainty"}."""
+        query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep),
+                 "cells_per_unit": cells_per_unit, "grid": grid}
+        return self._json("GET", "/phase-map/regions", query=query)
+
     # --- jobs and their results ---
     def jobs(self, sweep=None, state=None, phi=None):
         """Jobs (a list of dicts), filtered by sweep, state ("queued", "running", "succeeded",
@@ -351,11 +359,13 @@ class Client:
         """Every change of a human label, newest first: {"changes", "total", ...}."""
         return self._json("GET", "/labels/audit", query={"job": job, "limit": limit, "offset": offset})
 
-    def export_archive(self, sweep, path):
+    def export_archive(self, sweep, path, artifacts="run_page"):
         """Writes the sweep's export file (schema/sweep-export.md) that another server
-        imports; returns the path."""
+        imports; returns the path. artifacts: "run_page" (every file but the particle
+        snapshots) or "none" (the results and their provenance only, a few kB a run)."""
         sweep_id = sweep["id"] if isinstance(sweep, dict) else sweep
-        data = self._call("GET", "/sweeps/%d/export" % sweep_id, query={"format": "archive"})
+        data = self._call("GET", "/sweeps/%d/export" % sweep_id,
+                          query={"format": "archive", "artifacts": artifacts})
         with open(path, "wb") as f:
             f.write(data)
         return path

@@ -11,6 +11,7 @@ installs the package, then with the venv's interpreter (COMPACTION_E2E_CLIENT_VE
 runs the checks, so that the package is imported from the venv and not from the source tree."""
 import contextlib
 import io
+import json
 import math
 import os
 import shutil
@@ -253,6 +254,21 @@ check(plan["state"] in ("resolved", "budget_spent", "unresolved")
       "wait() returns once the plan has ended, not in the moment before points are added: %s" % plan)
 e = raises(lambda: client.plan(sweep), ApiError)
 check(e.status == 409 and e.field == "id", "a grid sweep has no plan: %r" % e)
+
+# --- the map's regions, and the export file with and without the runs' files ---
+regions = client.regions(0.4, sweep=grown, grid=8)
+check(regions["grid"] == 8 and len(regions["classes"]) == 8 and len(regions["uncertainty"]) == 8
+      and regions["runs"] >= 1, "the regions the adaptive sweep's runs predict: %s" % regions)
+e = raises(lambda: client.regions(0.95), ApiError)
+check(e.status == 422 and e.field == "phi", "regions refuse phi = 0.95: %r" % e)
+full = client.export_archive(grown, os.path.join(env.dir, "full.export.json"))
+bare = client.export_archive(grown, os.path.join(env.dir, "bare.export.json"), artifacts="none")
+with open(full) as f_full, open(bare) as f_bare:
+    full_doc, bare_doc = json.load(f_full), json.load(f_bare)
+check(len(bare_doc["runs"]) == len(full_doc["runs"]) >= 1
+      and all(r["artifacts"] == [] for r in bare_doc["runs"])
+      and any(r["artifacts"] for r in full_doc["runs"])
+      and os.path.getsize(bare) < os.path.getsize(full), "an export without the runs' files")
 
 check(stop(worker, signal.SIGTERM) == 0, "the worker exits 0 on SIGTERM")
 check(stop(env.server, signal.SIGTERM) == 0, "the server exits 0 on SIGTERM")

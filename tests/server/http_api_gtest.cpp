@@ -121,6 +121,8 @@ TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
       {"estimate S out of range", "POST", "/api/v1/sweeps/estimate", R"({"name": "x", "points": [{"S": 2, "R": 0.001, "phi": 0.4}]})", "", 422, "points[0].S"},
       {"unknown artifact", "GET", job + "/artifacts/spacetime.npy", "", "", 404, "name"},
       {"bad export format", "GET", "/api/v1/sweeps/1/export?format=xml", "", "", 422, "format"},
+      {"bad export artifacts", "GET", "/api/v1/sweeps/1/export?format=archive&artifacts=some", "", "", 422, "artifacts"},
+      {"export artifacts without archive", "GET", "/api/v1/sweeps/1/export?format=csv&artifacts=none", "", "", 422, "artifacts"},
       {"lease without worker token", "POST", "/api/v1/leases", R"({"worker": "w", "engine_version": "x"})", submit, 403, "Authorization"},
       {"lease without worker name", "POST", "/api/v1/leases", R"({"engine_version": "x"})", worker, 422, "worker"},
       {"heartbeat stale token", "POST", job + "/heartbeat", R"({"lease_token": "stale", "eps": 0.01})", worker, 409, "lease_token"},

@@ -132,6 +132,27 @@ TEST_F(ImportTest, AnImportBringsTheRunsWithTheirResultsArtifactsAndProvenance) 
   EXPECT_TRUE(b.reads.live_adaptive_sweeps().empty());
 }
 
+TEST_F(ImportTest, AnExportWithoutArtifactsBringsTheMapAndNoFile) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "b");
+  const std::string text = *export_sweep(a, sa, "127.0.0.1:8080", t0 + 30, ExportArtifacts::none);
+  const json file = json::parse(text);
+  ASSERT_EQ(file["runs"].size(), 2u);
+  EXPECT_EQ(file["runs"][0]["artifacts"], json::array());
+  EXPECT_EQ(file["runs"][0]["artifacts_left_out"].size(), 4u) << "every file named";
+  EXPECT_LT(text.size(), export_of(a, sa).size());
+
+  const ImportOutcome o = b.imports.merge(read_export(text), t0 + 40);
+  EXPECT_EQ(o.added, 2);
+  const json map = map_of(b);
+  ASSERT_EQ(map["points"].size(), 2u);
+  for (const json& p : map["points"]) EXPECT_EQ(p["class"], "b");
+  const std::int64_t job = map["points"][0]["job_id"];
+  EXPECT_FALSE(b.reads.artifact(job, "frames.csv"));
+  EXPECT_EQ(views::job_detail(*b.reads.job(job))["result"]["summary"]["classification"]["class"],
+            "b") << "the summary travels without the files";
+}
+
 TEST_F(ImportTest, ASecondImportOfTheSameFileChangesNothing) {
   const std::int64_t sa = create(a, "part A");
   run_all(a, "a");
