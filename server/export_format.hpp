@@ -1,6 +1,6 @@
-// The export file of a sweep (schema/sweep-export.md, schema/sweep-export.schema.json): the
-// results of one sweep with their scenes, provenance, human labels and the artifacts the map
-// and the run page need, that another server imports (compaction-server --import FILE, or
+// The export file of a sweep (schema/sweep-export.md): the results of one sweep with their
+// scenes, provenance, human labels and the artifacts the map and the run page need, that
+// another server imports (compaction-server --import FILE, or
 // POST /api/v1/imports) into its own database. The writer makes the file from the store's
 // records; the reader checks a whole file and turns it into the rows the import store merges.
 #pragma once
