@@ -33,7 +33,14 @@ export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
     form.append('lease_token', l.lease_token);
     form.append('summary', new Blob([JSON.stringify(summary)], { type: 'application/json' }), 'summary.json');
     form.append('files', new Blob([FRAMES_CSV], { type: 'text/csv' }), 'frames.csv');
-    const res = await fetch(`${url}/api/v1/jobs/${l.job_id}/complete`, { method: 'POST', body: form });
+    // Serialised first, so the upload carries a Content-Length as compaction-worker's does:
+    // node 18's fetch (Debian 12's node) streams a FormData body chunked, which the server
+    // refuses as malformed.
+    const encoded = new Response(form);
+    const body = await encoded.arrayBuffer();
+    const res = await fetch(`${url}/api/v1/jobs/${l.job_id}/complete`, {
+      method: 'POST', body, headers: { 'Content-Type': encoded.headers.get('Content-Type') },
+    });
     if (res.status !== 200) throw new Error(`complete ${l.job_id} -> ${res.status} ${await res.text()}`);
     done++;
   }
