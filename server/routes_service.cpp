@@ -139,6 +139,13 @@ void register_all_routes(httplib::Server& server, App& app) {
           field = "request";
           message = "malformed request: bad request line or headers, or a truncated or "
                     "malformed body";
+          // The library's multipart parser (cpp-httplib 0.11) also refuses a body whose close
+          // delimiter ends it without the CRLF that curl, browsers and compaction-worker send.
+          if (req.is_multipart_form_data()) {
+            field = "body";
+            message = "malformed multipart/form-data body: truncated, or its close delimiter "
+                      "(--boundary--) not followed by CRLF";
+          }
           break;
         default: field = "request", message = "request failed"; break;
       }

@@ -165,6 +165,25 @@ TEST_F(ApiTest, EveryBadInputIsAnsweredWithItsStatusAndFieldAndChangesNothing) {
   }
 }
 
+// Node 18's FormData ends its body at the close delimiter; the library's parser wants the CRLF
+// that curl and compaction-worker send after it. The refusal says so, and stores nothing.
+TEST_F(ApiTest, AnUploadEndingAtItsCloseDelimiterIsRefusedWithAReasonAndChangesNothing) {
+  create_sweep();
+  const json l = lease();
+  const std::string path = "/api/v1/jobs/" + std::to_string(l["job_id"].get<int>()) + "/complete";
+  const std::string b = "----b";
+  const std::string body = "--" + b + "\r\nContent-Disposition: form-data; name=\"lease_token\"\r\n\r\n" +
+                           l["lease_token"].get<std::string>() + "\r\n--" + b + "--";
+  const std::string before = store->reads.fingerprint();
+  auto r = client->Post(path.c_str(), auth(worker), body, ("multipart/form-data; boundary=" + b).c_str());
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 400);
+  const json error = json::parse(r->body)["error"];
+  EXPECT_EQ(error["field"], "body");
+  EXPECT_NE(error["message"].get<std::string>().find("not followed by CRLF"), std::string::npos) << r->body;
+  EXPECT_EQ(store->reads.fingerprint(), before);
+}
+
 TEST_F(ApiTest, ALeaseCycleOverHttpStoresTheResultOnceAndRefusesTheStaleToken) {
   const std::int64_t sweep = create_sweep();
   const json l = lease();

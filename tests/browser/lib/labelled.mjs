@@ -5,6 +5,22 @@
 
 const FRAMES_CSV = 'eps,stress_top,stress_bottom\n' + Array.from({ length: 10 }, (_, i) => `${(i / 100).toFixed(2)},${(i * 1e-3).toFixed(4)},${(i * 5e-4).toFixed(4)}\n`).join('');
 
+// A multipart/form-data body as curl and compaction-worker write it: a Content-Length (a
+// string body, not a stream) and a CRLF after the close delimiter. Node's FormData is not used:
+// node 18 (Debian 12's) streams it chunked, and ends it at the close delimiter without that CRLF,
+// which the server's multipart parser (cpp-httplib 0.11) refuses (docs/service.md, "Uploads").
+function multipart(parts) {
+  const boundary = `----compaction-browser-test-${Date.now()}`;
+  let body = '';
+  for (const p of parts) {
+    body += `--${boundary}\r\nContent-Disposition: form-data; name="${p.name}"`;
+    body += p.filename ? `; filename="${p.filename}"\r\nContent-Type: ${p.type}\r\n\r\n` : '\r\n\r\n';
+    body += `${p.value}\r\n`;
+  }
+  body += `--${boundary}--\r\n`;
+  return { body, contentType: `multipart/form-data; boundary=${boundary}` };
+}
+
 // verdict(scene) -> { class, confidence, runner_up, n_reflections, band_speed_ratio } or null
 // (an unclassified run: class null, the other numbers kept). Completes every job queued for
 // the server's engine; returns the number completed.
@@ -29,17 +45,13 @@ export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
       status: 'ok', params: l.scene, engine_version: health.engine_version, source_revision: 'browser-test',
       eps_reached: l.scene.eps_end, wall_seconds: 0.01, classification,
     };
-    const form = new FormData();
-    form.append('lease_token', l.lease_token);
-    form.append('summary', new Blob([JSON.stringify(summary)], { type: 'application/json' }), 'summary.json');
-    form.append('files', new Blob([FRAMES_CSV], { type: 'text/csv' }), 'frames.csv');
-    // Serialised first, so the upload carries a Content-Length as compaction-worker's does:
-    // node 18's fetch (Debian 12's node) streams a FormData body chunked, which the server
-    // refuses as malformed.
-    const encoded = new Response(form);
-    const body = await encoded.arrayBuffer();
+    const { body, contentType } = multipart([
+      { name: 'lease_token', value: l.lease_token },
+      { name: 'summary', filename: 'summary.json', type: 'application/json', value: JSON.stringify(summary) },
+      { name: 'files', filename: 'frames.csv', type: 'text/csv', value: FRAMES_CSV },
+    ]);
     const res = await fetch(`${url}/api/v1/jobs/${l.job_id}/complete`, {
-      method: 'POST', body, headers: { 'Content-Type': encoded.headers.get('Content-Type') },
+      method: 'POST', body, headers: { 'Content-Type': contentType },
     });
     if (res.status !== 200) throw new Error(`complete ${l.job_id} -> ${res.status} ${await res.text()}`);
     done++;
