@@ -54,6 +54,13 @@ void BM_ReferenceScene_ApicBspline_1Thread(benchmark::State& state) {
   run(state, p);
 }
 
+// Two velocity fields across closing pores (engine/src/pore_contact.hpp): P2G on one thread.
+void BM_ReferenceScene_ApicSplitFields_1Thread(benchmark::State& state) {
+  auto p = reference_scene();
+  p.pore_contact = compaction::PoreContact::split_fields;
+  run(state, p);
+}
+
 // The same scene on the hot loops' baseline (SSE2) copy, as a processor without AVX2 runs it;
 // the other variants run the AVX2 copy where the processor has it (engine/src/simd_dispatch.hpp).
 void BM_ReferenceScene_Apic_1Thread_BaselineCopy(benchmark::State& state) {
@@ -73,6 +80,7 @@ void BM_ReferenceScene_Apic_2Threads(benchmark::State& state) {
 BENCHMARK(BM_ReferenceScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_PicFlip_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_ApicBspline_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ReferenceScene_ApicSplitFields_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_1Thread_BaselineCopy)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 

@@ -23,7 +23,7 @@ namespace {
 const std::set<std::string> numerics_keys = {
     "preset", "cells_per_strut", "cells_per_unit", "particles_per_cell", "cfl", "transfer",
     "movie_d_eps",
-    "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "perturbation", "seed",
+    "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "pore_contact", "perturbation", "seed",
     "structure", "seeds"};
 
 const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",

@@ -10,7 +10,8 @@ wall time of each run; (a) is the non-reflecting band, whose c_b/V should be 1/(
   bench/validation/solid_fractions.py --phi 0.3,0.4,0.5,0.6 --jobs 2 --bin build/bin
 
 A missing phi is left out of the table (the runs of the others are cached in --work, so the
-study can be made in parts).
+study can be made in parts). --pore-contact split_fields runs the engine's two-field contact
+across closing pores (docs/engine.md, "Pore contact") and writes its own table.
 """
 import argparse
 import os
@@ -34,21 +35,30 @@ def main():
     ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "solid-fractions"))
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
     ap.add_argument("--jobs", type=int, default=1)
-    ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "solid-fractions.md"))
+    ap.add_argument("--pore-contact", default="single_field", choices=("single_field", "split_fields"))
+    ap.add_argument("--out", default=None,
+                    help="default docs/validation/solid-fractions.md, or solid-fractions-split-fields.md")
     a = ap.parse_args()
+    split = a.pore_contact == "split_fields"
+    if a.out is None:
+        a.out = os.path.join(runs.ROOT, "docs", "validation",
+                             "solid-fractions-split-fields.md" if split else "solid-fractions.md")
+    suffix = "-split_fields" if split else ""
     phis = [float(p) for p in a.phi.split(",")]
     examples = [e for e in a.examples.split(",") if e]
     for e in examples:
         if e not in EXAMPLES:
             ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
-    scenes = {"%s-phi%g" % (e, phi): {"S": EXAMPLES[e][0], "R": EXAMPLES[e][1], "phi": phi,
-                                      "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - phi,
-                                      "snapshot_eps": ""}
+    scenes = {"%s-phi%g%s" % (e, phi, suffix): dict(
+                  {"S": EXAMPLES[e][0], "R": EXAMPLES[e][1], "phi": phi,
+                   "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - phi, "snapshot_eps": ""},
+                  **({"pore_contact": "split_fields"} if split else {}))
               for phi in phis for e in examples}
     dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
     classify_bin = os.path.join(a.bin, "compaction-classify")
 
-    lines = ["# The six examples at phi = 0.3 to 0.6 (default resolution)", "",
+    lines = ["# The six examples at phi = 0.3 to 0.6 (default resolution%s)"
+             % (", two velocity fields across closing pores" if split else ""), "",
              "Made by `bench/validation/solid_fractions.py %s`. Pseudo-1D, to full density "
              "(eps = 1 - phi), %g cells across a strut (the `default` preset), one thread per run. "
              "c_b/V in both readings (fit: slope of the leading edge before its first turn; transit: "
@@ -59,7 +69,7 @@ def main():
              "|---|---|---|---|---|---|---|---|---|---|"]
     for e in examples:
         for phi in phis:
-            d = dirs["%s-phi%g" % (e, phi)]
+            d = dirs["%s-phi%g%s" % (e, phi, suffix)]
             s = runs.summary(d)
             c = runs.classify(d, classify_bin)
             f = c.get("features") or {}

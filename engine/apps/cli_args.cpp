@@ -51,6 +51,8 @@ const SceneFlag kSceneFlags[] = {
     {"--flip-ratio", "flip_ratio", Kind::real, &limits::flip_ratio, "FLIP share of pic_flip"},
     {"--contact", "contact", Kind::text, nullptr, "plate contact: bonded | unilateral"},
     {"--gradient", "gradient", Kind::text, nullptr, "force and Fe gradient: mls | bspline"},
+    {"--pore-contact", "pore_contact", Kind::text, nullptr,
+     "closing pores: single_field | split_fields (two velocity fields until a gap closes)"},
     {"--perturbation", "perturbation", Kind::real, &limits::perturbation,
      "random particle offset / spacing"},
     {"--seed", "seed", Kind::unsigned_integer, nullptr,
@@ -146,7 +148,8 @@ const char* kNotes =
     "every --checkpoint-every seconds of wall time and when SIGTERM/SIGINT stops it;\n"
     "--resume FILE goes on from such a file and ends with the bits of an uninterrupted run\n"
     "(same engine version, scene and threads). Format: schema/checkpoint-format.md.\n\n"
-    "exit status: 0 bundle written (status ok or unstable), 2 invalid input,\n"
+    "exit status: 0 bundle written (status ok or unstable), or --check: the scene is valid,\n"
+    "             2 invalid input,\n"
     "             3 cancelled by SIGINT/SIGTERM (bundle written), 1 other error,\n"
     "             4 the --resume checkpoint is refused (another engine version or scene,\n"
     "             damaged; the reason on stderr, nothing written)\n";
@@ -218,6 +221,9 @@ std::optional<int> parse(int argc, const char* const* argv, Options& out) {
       text::num(kDefaultCheckpointEvery));
   cl.text("--resume", out.resume_file, "FILE",
           "go on from this checkpoint (of the same engine version and scene)");
+  cl.flag("--check", out.check,
+          "validate the scene and print it as JSON with its grid (cells per unit\n"
+          "cell and across the strut), without running it or needing --out");
   for (const SceneFlag& f : kSceneFlags) {
     std::string help = f.help;
     if (f.range) help += ", in " + to_string(*f.range);
@@ -233,7 +239,9 @@ std::optional<int> parse(int argc, const char* const* argv, Options& out) {
   for (const FieldError& e : from_json(scene, out.params)) {
     code = cl.fail(flag_of(e.field) + (e.field.empty() ? "" : " (" + e.field + ")"), e.message);
   }
-  if (out.out_dir.empty()) code = cl.fail("--out", "required (the bundle's directory)");
+  if (out.out_dir.empty() && !out.check) {
+    code = cl.fail("--out", "required (the bundle's directory)");
+  }
   if (every_given && out.checkpoint_file.empty()) {
     code = cl.fail("--checkpoint-every", "needs --checkpoint FILE");
   }

@@ -19,6 +19,7 @@ struct Options {
   std::string checkpoint_file;
   double checkpoint_every = 0.0;
   std::string resume_file;
+  bool check = false;  // --check: validate the scene, print it with its grid, run nothing
 };
 
 

@@ -11,6 +11,7 @@
 
 #include "cli_args.hpp"
 #include "compaction/bundle.hpp"
+#include "compaction/params_json.hpp"
 #include "compaction/classify.hpp"
 #include "compaction/movie.hpp"
 #include "compaction/simulation.hpp"
@@ -51,6 +52,14 @@ int main(int argc, char** argv) {
 
   cli::Options opt;
   if (const auto code = cli::parse(argc, argv, opt)) return *code;
+
+  if (opt.check) {
+    nlohmann::json scene = to_json(opt.params);
+    scene["grid"] = {{"cells_per_unit", opt.params.grid_cells_per_unit()},
+                     {"cells_per_strut", opt.params.grid_cells_per_strut()}};
+    std::cout << scene.dump() << '\n';
+    return 0;
+  }
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

@@ -27,12 +27,12 @@ namespace {
 using nlohmann::json;
 
 constexpr char kMagic[8] = {'C', 'M', 'P', 'C', 'K', 'P', 'T', '\n'};
-constexpr std::uint32_t kFormatVersion = 2;
+constexpr std::uint32_t kFormatVersion = 3;
 
 // The sections below list every field of these types. A field added to one of them changes its
 // size and stops the build here: write it into the checkpoint (and read it back), describe it
 // in schema/checkpoint-format.md and raise kFormatVersion.
-static_assert(sizeof(Particles) == 312, "Particles changed: add the field to the checkpoint");
+static_assert(sizeof(Particles) == 360, "Particles changed: add the field to the checkpoint");
 static_assert(sizeof(Clock) == 40, "Clock changed: add the field to the checkpoint");
 static_assert(sizeof(StepMeasure) == 48, "StepMeasure changed: add the field to the checkpoint");
 static_assert(sizeof(Frame) == 9 * sizeof(double), "Frame changed: raise kFormatVersion");
@@ -276,6 +276,7 @@ CheckpointInfo write_checkpoint(const std::string& path, const SceneParams& p, c
   o.put_array(P.C), o.put_array(P.Fe), o.put_array(P.tau);
   o.put_array(P.dep), o.put_array(P.ep), o.put_array(P.x0);
   o.put_array(P.strut), o.put_array(P.strut_mid);
+  o.put_array(P.nx), o.put_array(P.ny);  // split_fields' face normals, else empty
   // 4. the result so far
   o.put(r.eps_reached);
   o.put(r.stage_seconds.p2g), o.put(r.stage_seconds.grid_update), o.put(r.stage_seconds.g2p);
@@ -357,6 +358,8 @@ CheckpointInfo restore_checkpoint(const std::string& path, const SceneParams& p,
   in.get_array(P.C, n, "C"), in.get_array(P.Fe, n, "Fe"), in.get_array(P.tau, n, "tau");
   in.get_array(P.dep, n, "dep"), in.get_array(P.ep, n, "ep"), in.get_array(P.x0, n, "x0");
   in.get_array(P.strut, n, "strut"), in.get_array(P.strut_mid, n, "strut_mid");
+  const std::size_t normals = s.setup.split_fields ? n : 0;
+  in.get_array(P.nx, normals, "nx"), in.get_array(P.ny, normals, "ny");
 
   r.eps_reached = in.get<double>();
   r.stage_seconds.p2g = in.get<double>();

@@ -4,11 +4,14 @@
 //   x_p += dt v_p,  Fe <- (I + dt C_p) Fe,  then the return mapping (plasticity.hpp), run on
 //   blocks of kBlock particles at a time so that it vectorises across them.
 // gradient = bspline updates Fe with the exact gradient sum v_i (x) grad w_ip instead of C_p.
+// pore_contact = split_fields reads each node's velocity from the field p2g put the particle
+// in, and carries the particle's face normal with the flow (pore_contact.hpp).
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "kernel.hpp"
+#include "pore_contact.hpp"
 #include "simd_dispatch.hpp"
 #include "stages.hpp"
 
@@ -33,15 +36,31 @@ struct GridView {
 // Grid to particle transfer for the n particles of one block, up to the trial Fe. Every array
 // is __restrict, so that the compiler vectorises it across the block: the stencil's nine nodes
 // are loaded per particle (gathers), the rest is arithmetic without branches.
-template <bool kApic, bool kExact>
+// kSplit: split_fields' second field and node normals (else null), the particles' normals.
+struct SplitView {
+  const Node* second;
+  const double *nnx, *nny;
+  double *pnx, *pny;
+};
+
+template <bool kApic, bool kExact, bool kSplit>
 [[gnu::always_inline]] inline void transfer_block(
     std::size_t n, double dt, const GridView& v, const int* __restrict col,
     const Node* __restrict nodes, const double* __restrict mx, const double* __restrict my,
     double* __restrict px, double* __restrict py, double* __restrict pvx,
     double* __restrict pvy, Mat2* __restrict pc, const Mat2* __restrict pf,
-    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk) {
+    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk, const SplitView& split) {
   const double dx = v.dx, inv_dx = v.inv_dx, c_scale = v.c_scale, alpha = v.alpha;
   for (std::size_t i = 0; i < n; ++i) {
+    // The node k as this particle sees it: its field's (split_fields) or the one field.
+    double nx = 0.0, ny = 0.0;
+    if constexpr (kSplit) nx = split.pnx[i], ny = split.pny[i];
+    auto node = [&](std::ptrdiff_t k) -> const Node& {
+      if constexpr (kSplit) {
+        if (pore_contact::second_field(nx, ny, split.nnx[k], split.nny[k])) return split.second[k];
+      }
+      return nodes[k];
+    };
     const auto kx = kernel::quadratic(px[i] * inv_dx + v.gxo);
     const auto ky = kernel::quadratic(py[i] * inv_dx + v.gyo);
     // B = sum_ab wx_a wy_b v_ab (dx_a, dy_b)^T, summed row by row with the x-weights
@@ -55,9 +74,9 @@ template <bool kApic, bool kExact>
     for (int b = 0; b < 3; ++b) {
       const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
       const std::ptrdiff_t row = (ky.base + b) * v.nx;
-      const Node& n0 = nodes[row + c0];
-      const Node& n1 = nodes[row + c1];
-      const Node& n2 = nodes[row + c2];
+      const Node& n0 = node(row + c0);
+      const Node& n1 = node(row + c1);
+      const Node& n2 = node(row + c2);
       const double sx = kx.w[0] * n0.vx + kx.w[1] * n1.vx + kx.w[2] * n2.vx;
       const double sy = kx.w[0] * n0.vy + kx.w[1] * n1.vy + kx.w[2] * n2.vy;
       const double sdx = wdx0 * n0.vx + wdx1 * n1.vx + wdx2 * n2.vx;
@@ -79,6 +98,12 @@ template <bool kApic, bool kExact>
     }
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
     pc[i] = c;
+    if constexpr (kSplit) {  // a material normal follows F^-T: dn/dt = -C^T n
+      double ux = nx - dt * (c.xx * nx + c.yx * ny), uy = ny - dt * (c.xy * nx + c.yy * ny);
+      const double len = std::sqrt(ux * ux + uy * uy);
+      if (len > 0.0) ux /= len, uy /= len;
+      split.pnx[i] = ux, split.pny[i] = uy;
+    }
     double vx_new = vx, vy_new = vy;
     if constexpr (!kApic) {
       vx_new = alpha * (pvx[i] + vx - ox) + (1.0 - alpha) * vx;
@@ -105,7 +130,7 @@ template <bool kApic, bool kExact>
 
 // The gather into particles [begin, end), one block at a time (run_loop in simd_dispatch.hpp
 // makes its variants and copies; both copies run the same code).
-template <bool kApic, bool kExact>
+template <bool kApic, bool kExact, bool kSplit = false>
 struct Gather {
   template <bool kAvx2>
   [[gnu::always_inline]] static StepMeasure run(Particles& P, const Setup& s, const Grid& g,
@@ -126,10 +151,15 @@ struct Gather {
     GatherBlock gb;      // positions and squared speeds, for the step's measures
     for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
       const std::size_t nb = std::min(kBlock, end - b0);
-      transfer_block<kApic, kExact>(nb, dt, view, g.col.data(), g.arrays.nodes.data(),
-                                    g.arrays.mx.data(), g.arrays.my.data(), P.x.data() + b0,
-                                    P.y.data() + b0, P.vx.data() + b0, P.vy.data() + b0,
-                                    P.C.data() + b0, P.Fe.data() + b0, &gb, &blk);
+      SplitView split{};
+      if constexpr (kSplit) {
+        split = {g.field2.nodes.data(), g.nnx.data(), g.nny.data(), P.nx.data() + b0,
+                 P.ny.data() + b0};
+      }
+      transfer_block<kApic, kExact, kSplit>(
+          nb, dt, view, g.col.data(), g.arrays.nodes.data(), g.arrays.mx.data(),
+          g.arrays.my.data(), P.x.data() + b0, P.y.data() + b0, P.vx.data() + b0,
+          P.vy.data() + b0, P.C.data() + b0, P.Fe.data() + b0, &gb, &blk, split);
       return_map_block<false>(blk, nb, s.material);
       if (any_redo(blk, nb)) return_map_block<true>(blk, nb, s.material);
       for (std::size_t i = 0; i < nb; ++i) {
@@ -173,8 +203,10 @@ void g2p(State& s, double dt, ThreadPool& pool) {
   const std::size_t n = s.particles.n;
   pool.run([&](int t) {
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    parts[t] = run_loop<Gather>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, s.grid,
-                                b, e, dt);
+    parts[t] = s.setup.split_fields  // apic and mls (validate())
+                   ? run_variant<Gather<true, false, true>>(s.particles, s.setup, s.grid, b, e, dt)
+                   : run_loop<Gather>(s.setup.transfer, s.setup.gradient, s.particles, s.setup,
+                                      s.grid, b, e, dt);
   });
   StepMeasure m = parts[0];
   for (std::size_t t = 1; t < parts.size(); ++t) m = combine(m, parts[t]);

@@ -6,6 +6,8 @@
 // pushes (v_y >= 0 at the bottom, v_y <= -V at the top). Side walls (full2d) do the same in x.
 // The change of momentum the plates impose is their reaction impulse on the material: the plate
 // stress is that impulse per unit width and time, averaged over a frame (diagnostics.cpp).
+// split_fields: a node with two fields is two nodes until it is full, then one
+// (pore_contact.hpp).
 #include <algorithm>
 
 #include "stages.hpp"
@@ -30,13 +32,12 @@ void grid_update(State& s) {
   const double top = s.clock.top_y(su);
   double top_impulse = 0.0, bottom_impulse = 0.0;
   Node* nodes = g.arrays.nodes.data();
+  Node* second = su.split_fields ? g.field2.nodes.data() : nullptr;
   for (int j = g.row_lo; j < g.row_hi; ++j) {
     const double y = (j - g.gy) * g.dx;
     const bool at_bottom = y <= 0.0, at_top = y >= top;
-    for (int i = 0; i < g.nx; ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * g.nx + i;
-      Node& n = nodes[k];
-      if (n.m <= 0.0) continue;
+    // A node's velocity from its momentum, then the plates and walls on it.
+    auto update = [&](Node& n, std::size_t k, int i) {
       const double inv_m = 1.0 / n.m;
       double vx = n.vx * inv_m, vy = n.vy * inv_m;
       if (flip) {  // v_old: the velocity before forces, for the FLIP increment
@@ -60,6 +61,24 @@ void grid_update(State& s) {
       }
       n.vx = vx;
       n.vy = vy;
+    };
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * g.nx + i;
+      Node& n = nodes[k];
+      if (second != nullptr && second[k].m > 0.0) {  // split_fields (pore_contact.hpp)
+        Node& n2 = second[k];
+        if (n.m > 0.0 && n.m + n2.m < su.merge_mass) {  // a gap between them: two nodes
+          update(n, k, i);
+          update(n2, k, i);
+          continue;
+        }
+        n.m += n2.m, n.vx += n2.vx, n.vy += n2.vy;  // full (or one field): one node
+        update(n, k, i);
+        n2.vx = n.vx, n2.vy = n.vy;
+        continue;
+      }
+      if (n.m <= 0.0) continue;
+      update(n, k, i);
     }
   }
   s.clock.top_impulse += top_impulse;

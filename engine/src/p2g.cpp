@@ -8,10 +8,13 @@
 // the standard MPM force impulse -dt V0 tau_p grad w_ip with the exact B-spline gradient.
 // Particles go in blocks of kScatterBlock: their coefficients first (vectorised across the
 // block), then their node updates (simd_dispatch.hpp: a baseline and an AVX2 copy).
+// pore_contact = split_fields (pore_contact.hpp) first sums the particles' normals on the nodes,
+// then scatters each particle-node pair into the node's first or second field, on one thread.
 #include <algorithm>
 #include <cstring>
 
 #include "kernel.hpp"
+#include "pore_contact.hpp"
 #include "simd_dispatch.hpp"
 #include "stages.hpp"
 
@@ -95,15 +98,17 @@ template <bool kApic, bool kExact>
 
 // The scatter of particles [begin, end) into `out`, one block at a time (run_loop in
 // simd_dispatch.hpp makes its variants and copies). The AVX2 copy updates a node as Lanes.
-template <bool kApic, bool kExact>
+// kSplit: a pair whose particle normal opposes the node's goes into `second` instead.
+template <bool kApic, bool kExact, bool kSplit = false>
 struct Scatter {
   template <bool kAvx2>
   [[gnu::always_inline]] static void run(const Particles& P, const Setup& s, const Grid& g,
-                                         NodeArrays& out, std::size_t begin, std::size_t end,
-                                         double dt) {
+                                         NodeArrays& out, NodeArrays* second, std::size_t begin,
+                                         std::size_t end, double dt) {
     const std::ptrdiff_t nx = g.nx;
     const int* col = g.col.data();
-    Node* nodes = out.nodes.data();
+    Node* first = out.nodes.data();
+    Node* nodes = first;
     ScatterBlock sb;
     for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
       const std::size_t nb = std::min(kScatterBlock, end - b0);
@@ -123,6 +128,12 @@ struct Scatter {
           for (int a = 0; a < 3; ++a) {
             const std::ptrdiff_t i = row + cs[a];
             const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
+            if constexpr (kSplit) {
+              const std::size_t p = b0 + k;
+              nodes = pore_contact::second_field(P.nx[p], P.ny[p], g.nnx[i], g.nny[i])
+                          ? second->nodes.data()
+                          : first;
+            }
             if constexpr (kAvx2) {
               Lanes n;
               std::memcpy(&n, &nodes[i], sizeof n);
@@ -150,17 +161,48 @@ struct Scatter {
   }
 };
 
+// The node normals of split_fields: sum of w_ip n_p (pore_contact.hpp).
+void scatter_normals(const Particles& P, Grid& g) {
+  const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
+  const std::size_t hi = static_cast<std::size_t>(g.row_hi) * g.nx;
+  std::fill(g.nnx.begin() + lo, g.nnx.begin() + hi, 0.0);
+  std::fill(g.nny.begin() + lo, g.nny.begin() + hi, 0.0);
+  const double gxo = g.gx, gyo = g.gy;
+  for (std::size_t p = 0; p < P.n; ++p) {
+    const auto kx = kernel::quadratic(P.x[p] * g.inv_dx + gxo);
+    const auto ky = kernel::quadratic(P.y[p] * g.inv_dx + gyo);
+    for (int b = 0; b < 3; ++b) {
+      const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(ky.base + b) * g.nx;
+      for (int a = 0; a < 3; ++a) {
+        const std::ptrdiff_t i = row + g.col[kx.base + 1 + a];
+        const double w = kx.w[a] * ky.w[b];
+        g.nnx[i] += w * P.nx[p];
+        g.nny[i] += w * P.ny[p];
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void p2g(State& s, double dt, ThreadPool& pool) {
   Grid& g = s.grid;
   const bool apic = s.setup.transfer == Transfer::apic;
   const std::size_t n = s.particles.n;
+  if (s.setup.split_fields) {  // apic and mls (validate()); one thread
+    clear_rows(g, g.arrays, false);
+    clear_rows(g, g.field2, false);
+    scatter_normals(s.particles, g);
+    run_variant<Scatter<true, false, true>>(s.particles, s.setup, g, g.arrays, &g.field2,
+                                            std::size_t{0}, n, dt);
+    return;
+  }
   pool.run([&](int t) {
     NodeArrays& out = t == 0 ? g.arrays : g.scratch[t - 1];
     clear_rows(g, out, !apic);
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    run_loop<Scatter>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, g, out, b, e, dt);
+    run_loop<Scatter>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, g, out,
+                      static_cast<NodeArrays*>(nullptr), b, e, dt);
   });
   if (pool.size() == 1) return;
   // Sum the threads' arrays into the grid, each thread a share of the rows, in a fixed order

@@ -142,6 +142,17 @@ std::vector<FieldError> validate(const SceneParams& p) {
                               num(hole / dx) + " and " + (random ? "thinnest strut " : "strut ") +
                               num(strut / dx) + " grid cells, need >= 1 each"});
     }
+    if (p.pore_contact == PoreContact::split_fields) {
+      if (p.transfer != Transfer::apic || p.gradient != Gradient::mls) {
+        e.push_back({"pore_contact", "split_fields needs transfer = apic and gradient = mls"});
+      }
+      if (p.phi != 1.0 && strut / dx < kSplitFieldsMinStrutCells) {
+        e.push_back({"pore_contact", std::string("split_fields needs at least ") +
+                                         num(kSplitFieldsMinStrutCells) + " grid cells across " +
+                                         (random ? "the thinnest strut" : "the strut") + ", got " +
+                                         num(strut / dx) + " (raise " + field + ")"});
+      }
+    }
     const double nodes = static_cast<double>(p.cols() * cells_per_unit + 5) *
                          (p.n_rows * cells_per_unit + 5);
     if (nodes > 2e7) {
@@ -182,6 +193,15 @@ bool parse(const std::string& s, Transfer& out) {
   if (s == "pic_flip") return out = Transfer::pic_flip, true;
   return false;
 }
+const char* to_string(PoreContact c) {
+  return c == PoreContact::single_field ? "single_field" : "split_fields";
+}
+bool parse(const std::string& s, PoreContact& out) {
+  if (s == "single_field") return out = PoreContact::single_field, true;
+  if (s == "split_fields") return out = PoreContact::split_fields, true;
+  return false;
+}
+
 bool parse(const std::string& s, PlateContact& out) {
   if (s == "bonded") return out = PlateContact::bonded, true;
   if (s == "unilateral") return out = PlateContact::unilateral, true;

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "kernel.hpp"
+#include "pore_contact.hpp"
 #include "splitmix64.hpp"
 #include "void_layout.hpp"
 
@@ -42,6 +44,42 @@ void build_grid(const SceneParams& p, Grid& g) {
     g.arrays.my.assign(nodes, 0.0);
   }
   g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
+  if (p.pore_contact == PoreContact::split_fields) {
+    g.field2.nodes.assign(nodes, Node{0, 0, 0, 0});
+    g.nnx.assign(nodes, 0.0);
+    g.nny.assign(nodes, 0.0);
+  }
+}
+
+// The unit normal of the pore face nearest to (px, py) in unit cell (cx, cy), pointing from the
+// pore into the solid (pore_contact.hpp); zero without pores. The voids of the cell and its
+// eight neighbours are searched (pseudo1d: its own, shifted by the width), the first nearest
+// wins.
+void face_normal(const VoidLayout& voids, int per_unit, double spacing, double width,
+                 bool periodic, int cx, int cy, double px, double py, double& nx, double& ny) {
+  double best = std::numeric_limits<double>::infinity();
+  nx = ny = 0.0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int vy = cy + dy;
+    if (vy < 0 || vy >= voids.rows) continue;
+    for (int dx = -1; dx <= 1; ++dx) {
+      int vx = cx + dx;
+      double shift = 0.0;
+      if (periodic) {
+        shift = vx < 0 ? -width : (vx >= voids.cols ? width : 0.0);
+        vx = (vx + voids.cols) % voids.cols;
+      } else if (vx < 0 || vx >= voids.cols) {
+        continue;
+      }
+      const Void& v = voids.at(vx, vy);
+      if (v.empty()) continue;
+      const double x0 = (vx * per_unit + v.x0) * spacing + shift, x1 = (vx * per_unit + v.x1) * spacing + shift;
+      const double y0 = (vy * per_unit + v.y0) * spacing, y1 = (vy * per_unit + v.y1) * spacing;
+      const double ox = px - std::clamp(px, x0, x1), oy = py - std::clamp(py, y0, y1);
+      const double d = std::hypot(ox, oy);
+      if (d < best && d > 0.0) best = d, nx = ox / d, ny = oy / d;
+    }
+  }
 }
 
 // The constants of the scene that the stages read (strut geometry: place_particles).
@@ -58,6 +96,7 @@ Setup make_setup(const SceneParams& p) {
   su.flip_ratio = p.flip_ratio;
   su.gradient = p.gradient;
   su.contact = p.contact;
+  su.split_fields = p.pore_contact == PoreContact::split_fields;
   su.side_walls = p.geometry == Geometry::full2d;
   return su;
 }
@@ -95,6 +134,12 @@ Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
       }
       P.x.push_back(px);
       P.y.push_back(py);
+      if (su.split_fields) {
+        double nx, ny;
+        face_normal(voids, per_unit, spacing, su.width, g.periodic_x, cx, cy, px, py, nx, ny);
+        P.nx.push_back(nx);
+        P.ny.push_back(ny);
+      }
       P.x0.push_back(px);
       // A vertical strut spans the rows of its cell's hole, between two holes of a row.
       if (hole_row) {
@@ -143,6 +188,8 @@ State build_scene(const SceneParams& p) {
   const Grid& g = s.grid;
   s.setup.scale = s.particles.vol0 * kernel::kInverseInertia * g.inv_dx * g.inv_dx;  // V0 D^-1, MLS
   s.setup.vol0 = s.particles.vol0;
+  // A full node holds rho dx^2: the particles' masses times their weights sum to it.
+  s.setup.merge_mass = pore_contact::kMergeCoverage * p.rho * g.dx * g.dx;
   s.partial_measures.resize(static_cast<std::size_t>(p.threads));
   s.measure = initial_measure(s.particles);
   return s;

@@ -73,6 +73,12 @@ auto either(Args... args) {
 
 }  // namespace simd_copies
 
+// Runs Loop::run<kAvx2>(args...), one variant, in the copy that this processor runs.
+template <class Loop, class... Args>
+auto run_variant(Args&&... args) {
+  return simd_copies::either<Loop, simd_copies::Pass<Args>...>(args...);
+}
+
 // Runs Loop<kApic, kExact>::run<kAvx2>(args...) for the scene's transfer scheme and gradient,
 // in the copy that this processor runs.
 template <template <bool, bool> class Loop, class... Args>

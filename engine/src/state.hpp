@@ -28,6 +28,9 @@ struct Particles {
   std::vector<double> x0;       // initial position x, for strut deflections [m]
   std::vector<std::int32_t> strut;  // vertical strut id, -1 when not in a strut
   std::vector<std::uint8_t> strut_mid;  // 1: middle half of the strut, 0: its ends
+  // split_fields only (else empty): the unit normal of the nearest pore face, pointing from
+  // the pore into the solid, carried with the material (pore_contact.hpp)
+  std::vector<double> nx, ny;
 };
 
 // Grid node: mass and momentum (after the grid update: velocity in vx, vy).
@@ -51,6 +54,10 @@ struct Grid {
   std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
   int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
   int cells_x = 0, cells_y = 0;  // grid cells across and along the specimen (map rows: cells_y)
+  // split_fields only (else empty): the second velocity field (particles whose normal opposes
+  // the node's; `arrays` holds the first) and the node normal, sum of w n_p.
+  NodeArrays field2;
+  std::vector<double> nnx, nny;
 };
 
 // Constants of the scene that the stages need.
@@ -66,6 +73,8 @@ struct Setup {
   Gradient gradient = Gradient::mls;
   double flip_ratio = 0.0;
   PlateContact contact = PlateContact::bonded;
+  bool split_fields = false;  // pore_contact = split_fields
+  double merge_mass = 0.0;    // a node of two fields merges them from this mass on [kg/m]
   bool side_walls = false;
   int n_struts = 0;
   double strut_thickness = 0.0;  // [m]

@@ -142,6 +142,20 @@ TEST_F(CheckpointGtest, RunStoppedTwiceAndResumedGivesTheBitsOfAnUninterruptedRu
   expect_same_result(whole, resume_to_end(p, path("b.ckpt")));
 }
 
+// Two velocity fields carry the particles' face normals: a checkpoint keeps them (restoring the
+// scene's initial normals instead changes the bits after the resume).
+TEST_F(CheckpointGtest, SplitFieldsRunResumedGivesTheBitsOfAnUninterruptedRun) {
+  SceneParams p = small_scene();
+  p.cells_per_unit = 14, p.eps_end = 0.01, p.snapshot_eps = {0.005};  // 3.2 cells across the strut
+  p.pore_contact = PoreContact::split_fields;
+  ASSERT_TRUE(validate(p).empty());
+  const RunResult whole = run_scene(p);
+  ASSERT_EQ(whole.status, RunStatus::ok) << whole.reason;
+  const RunResult first = run_until_frame(p, 3, "", path("a.ckpt"));
+  ASSERT_EQ(first.status, RunStatus::cancelled);
+  expect_same_result(whole, resume_to_end(p, path("a.ckpt")));
+}
+
 TEST_F(CheckpointGtest, RunResumedFromWithinAFrameGivesTheBitsOfAnUninterruptedRun) {
   const SceneParams p = small_scene();
   const RunResult whole = run_scene(p);

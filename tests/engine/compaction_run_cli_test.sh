@@ -28,6 +28,14 @@ check "non-number message" grep -q -- "--S: expected a finite number, got 'abc'"
 check "missing --out exits 2" test $rc -eq 2
 check "missing --out message" grep -q -- "--out: required" "$out/err"
 
+"$run" --check --S 4e-3 --cells-per-unit 16 --pore-contact split_fields > "$out/check" 2> "$out/err"; rc=$?
+check "check of a valid scene exits 0 without --out" test $rc -eq 0
+check "check prints the scene with its grid" grep -q '"grid":{"cells_per_strut":3.6' "$out/check"
+check "check prints pore_contact" grep -q '"pore_contact":"split_fields"' "$out/check"
+"$run" --check --S 4e-3 --cells-per-unit 12 --pore-contact split_fields > "$out/check" 2> "$out/err"; rc=$?
+check "check of an invalid scene exits 2" test $rc -eq 2
+check "check names the field" grep -q -- "--pore-contact (pore_contact): split_fields needs at least 3 grid cells" "$out/err"
+
 "$run" --bogus 1 --out "$out/x" 2> "$out/err"; rc=$?
 check "unknown flag exits 2" test $rc -eq 2
 

@@ -62,6 +62,29 @@ TEST(ParamsGtest, RandomStructureNeedsItsThinnestStrutResolved) {
   EXPECT_TRUE(validate(p).empty());
 }
 
+// split_fields runs APIC with the MLS gradient only, and needs kSplitFieldsMinStrutCells (3)
+// cells across the thinnest strut, so that no node reaches both faces of a strut.
+TEST(ParamsGtest, SplitFieldsNeedApicMlsAndThreeCellsAcrossTheStrut) {
+  SceneParams p;
+  p.pore_contact = PoreContact::split_fields;
+  EXPECT_TRUE(validate(p).empty());  // the default preset's 4.5 cells
+  p.cells_per_strut = 3.0;
+  EXPECT_TRUE(validate(p).empty());
+  p.cells_per_unit = 12;  // 2.7 cells across the strut at phi = 0.4
+  auto e = validate(p);
+  ASSERT_TRUE(has_error(e, "pore_contact"));
+  EXPECT_NE(e[0].message.find("cells_per_unit"), std::string::npos) << e[0].message;
+  p.cells_per_unit = 0;
+  p.structure = Structure::random;  // the thinnest strut is half the regular one: 2.25 cells
+  EXPECT_TRUE(has_error(validate(p), "pore_contact"));
+  p.structure = Structure::regular, p.transfer = Transfer::pic_flip;
+  EXPECT_TRUE(has_error(validate(p), "pore_contact"));
+  p.transfer = Transfer::apic, p.gradient = Gradient::bspline;
+  EXPECT_TRUE(has_error(validate(p), "pore_contact"));
+  p.pore_contact = PoreContact::single_field;
+  EXPECT_TRUE(validate(p).empty());
+}
+
 // The spread of the void areas: kAreaSpread where the largest void leaves kMinStrut of the
 // regular strut, less at low phi; the largest void then leaves exactly that strut.
 TEST(ParamsGtest, RandomVoidAreaSpreadKeepsTheThinnestStrut) {
@@ -121,6 +144,11 @@ TEST(ParamsGtest, JsonRoundTripKeepsEveryField) {
   SceneParams q;
   ASSERT_TRUE(from_json(to_json(p), q).empty());
   EXPECT_EQ(to_json(q), to_json(p));
+  SceneParams split;  // split_fields needs apic and mls (validate())
+  split.pore_contact = PoreContact::split_fields;
+  ASSERT_TRUE(from_json(to_json(split), q).empty());
+  EXPECT_EQ(q.pore_contact, PoreContact::split_fields);
+  EXPECT_EQ(to_json(q), to_json(split));
 }
 
 TEST(ParamsGtest, JsonReadingIsStrict) {
@@ -134,6 +162,10 @@ TEST(ParamsGtest, JsonReadingIsStrict) {
   e = from_json(nlohmann::json::parse(R"({"structure": "voronoi"})"), p);
   ASSERT_TRUE(has_error(e, "structure"));
   EXPECT_NE(e[0].message.find("\"regular\" or \"random\""), std::string::npos) << e[0].message;
+  e = from_json(nlohmann::json::parse(R"({"pore_contact": "penalty"})"), p);
+  ASSERT_TRUE(has_error(e, "pore_contact"));
+  EXPECT_NE(e[0].message.find("\"single_field\" or \"split_fields\""), std::string::npos)
+      << e[0].message;
   e = from_json(nlohmann::json::parse(R"([1, 2])"), p);
   EXPECT_EQ(e.size(), 1u);
   e = from_json(nlohmann::json::parse(R"({"phi": 0.95})"), p);

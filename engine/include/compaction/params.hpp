@@ -37,11 +37,23 @@ enum class PlateContact {
   unilateral  // plates only push: the material may separate from a plate
 };
 
+// How the faces of a pore interact on the grid as it closes (docs/engine.md, "Pore contact").
+enum class PoreContact {
+  single_field,  // one velocity field: faces interact once they share grid nodes, a cell or two
+                 // before the solid meets
+  split_fields   // two fields where faces of opposite normals share a node, merged once the
+                 // node is full (the gap closed); APIC with the MLS gradient only
+};
+
 // Limits of validate() that other components serve or check against.
 inline constexpr double kPhiMin = 0.2;          // porous structures: solid fraction range
 inline constexpr double kPhiMax = 0.8;
 inline constexpr double kSolidColumnPhi = 1.0;  // no holes: the verification tests' column
 inline constexpr std::size_t kMaxSnapshots = 100;
+// split_fields assumes that no grid node reaches both faces of one strut: a quadratic B-spline
+// reaches 1.5 cells to each side, so the thinnest strut needs 3 cells. (Else the two halves of
+// a strut could be told apart at a node as if a gap lay between them.)
+inline constexpr double kSplitFieldsMinStrutCells = 3.0;
 
 // An interval a parameter must lie in: [lo, hi], or (lo, hi) when open.
 struct Range {
@@ -128,6 +140,7 @@ struct SceneParams {
   double flip_ratio = 0.95;     // FLIP share of the pic_flip blend               [-]
   Gradient gradient = Gradient::mls;
   PlateContact contact = PlateContact::bonded;
+  PoreContact pore_contact = PoreContact::single_field;
   double perturbation = 0.0;    // random particle offset, fraction of spacing    [-]
   std::uint64_t seed = 1;       // seed of the perturbation and the random structure [-]
 
@@ -169,11 +182,13 @@ std::vector<FieldError> validate(const SceneParams& p);
 const char* to_string(Geometry g);
 const char* to_string(Transfer t);
 const char* to_string(PlateContact c);
+const char* to_string(PoreContact c);
 const char* to_string(Structure s);
 const char* to_string(Gradient g);
 bool parse(const std::string& s, Geometry& out);
 bool parse(const std::string& s, Transfer& out);
 bool parse(const std::string& s, PlateContact& out);
+bool parse(const std::string& s, PoreContact& out);
 bool parse(const std::string& s, Structure& out);
 bool parse(const std::string& s, Gradient& out);
 

@@ -30,6 +30,7 @@ json to_json(const SceneParams& p) {
       {"flip_ratio", p.flip_ratio},
       {"gradient", to_string(p.gradient)},
       {"contact", to_string(p.contact)},
+      {"pore_contact", to_string(p.pore_contact)},
       {"perturbation", p.perturbation},
       {"seed", p.seed},
       {"eps_end", p.eps_final()},
@@ -92,6 +93,8 @@ const std::map<std::string, std::pair<Reader, const char*>>& readers() {
       {"flip_ratio", {real(&SceneParams::flip_ratio), "a number"}},
       {"gradient", {enumeration(&SceneParams::gradient), "\"mls\" or \"bspline\""}},
       {"contact", {enumeration(&SceneParams::contact), "\"bonded\" or \"unilateral\""}},
+      {"pore_contact",
+       {enumeration(&SceneParams::pore_contact), "\"single_field\" or \"split_fields\""}},
       {"perturbation", {real(&SceneParams::perturbation), "a number"}},
       {"seed",
        {[](const json& v, SceneParams& p) {

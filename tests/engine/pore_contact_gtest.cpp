@@ -1,0 +1,175 @@
+// Contact across closing pores with two velocity fields (pore_contact = split_fields,
+// engine/src/pore_contact.hpp): the face normals the scene builder gives the particles, the
+// two fields holding exactly what one field holds, the faces of an open gap moving apart
+// from each other's velocity, and the fields merged once the gap is closed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pore_contact.hpp"
+#include "scene_builder.hpp"
+#include "stages.hpp"
+
+namespace compaction {
+namespace {
+
+SceneParams porous(PoreContact contact) {
+  SceneParams p;
+  p.n_rows = 4, p.cells_per_unit = 16, p.phi = 0.4, p.eps_end = 0.05;
+  p.pore_contact = contact;
+  return p;
+}
+
+// Every particle gets a velocity, an affine field and a stress (deterministic, irregular), so
+// that P2G moves momentum and stress impulses into both fields.
+void stir(State& s) {
+  Particles& P = s.particles;
+  for (std::size_t k = 0; k < P.n; ++k) {
+    const double a = std::sin(1.3 * k), b = std::cos(0.7 * k);
+    P.vx[k] = 0.3 * a, P.vy[k] = -0.2 * b;
+    P.C[k] = {0.5 * b, -0.1 * a, 0.2 * a, -0.4 * b};
+    P.tau[k] = {40.0 * a, 15.0 * b, -25.0 * a * b};
+  }
+  s.grid.row_lo = 0, s.grid.row_hi = s.grid.ny;
+}
+
+TEST(PoreContactGtest, NormalsPointFromTheNearestPoreFaceIntoTheSolid) {
+  const SceneParams p = porous(PoreContact::split_fields);
+  const State s = build_scene(p);
+  const Particles& P = s.particles;
+  ASSERT_EQ(P.nx.size(), P.n);
+  const double L = p.unit_cell(), half_hole = 0.5 * p.hole_side();
+  int bar_below = 0, bar_above = 0, strut_left = 0, strut_right = 0;
+  for (std::size_t k = 0; k < P.n; ++k) {
+    EXPECT_NEAR(std::hypot(P.nx[k], P.ny[k]), 1.0, 1e-12);
+    // Position within the unit cell, the pore centred at (L/2, L/2).
+    const double u = P.x[k] - L * std::floor(P.x[k] / L) - 0.5 * L;
+    const double v = P.y[k] - L * std::floor(P.y[k] / L) - 0.5 * L;
+    // Away from the bar's and the strut's middles, where the nearest face changes.
+    const double dx = s.grid.dx;
+    if (std::abs(u) < 0.25 * half_hole && v > half_hole && v < 0.5 * L - dx) {
+      EXPECT_NEAR(P.ny[k], 1.0, 1e-12) << k;  // the bar above the pore: n = +y
+      ++bar_above;
+    }
+    if (std::abs(u) < 0.25 * half_hole && v < -half_hole && v > -0.5 * L + dx) {
+      EXPECT_NEAR(P.ny[k], -1.0, 1e-12) << k;  // the bar below: n = -y
+      ++bar_below;
+    }
+    if (std::abs(v) < 0.25 * half_hole && u > half_hole && u < 0.5 * L - dx) {
+      EXPECT_NEAR(P.nx[k], 1.0, 1e-12) << k;  // the strut right of the pore: n = +x
+      ++strut_right;
+    }
+    if (std::abs(v) < 0.25 * half_hole && u < -half_hole && u > -0.5 * L + dx) {
+      EXPECT_NEAR(P.nx[k], -1.0, 1e-12) << k;  // the strut left of it: n = -x
+      ++strut_left;
+    }
+  }
+  EXPECT_GT(bar_above, 0);
+  EXPECT_GT(bar_below, 0);
+  EXPECT_GT(strut_left, 0);
+  EXPECT_GT(strut_right, 0);
+  // The default keeps no normals.
+  EXPECT_TRUE(build_scene(porous(PoreContact::single_field)).particles.nx.empty());
+}
+
+TEST(PoreContactGtest, TheTwoFieldsOfANodeHoldWhatOneFieldHolds) {
+  State one = build_scene(porous(PoreContact::single_field));
+  State two = build_scene(porous(PoreContact::split_fields));
+  stir(one), stir(two);
+  ThreadPool pool(1);
+  const double dt = 1e-6;
+  p2g(one, dt, pool);
+  p2g(two, dt, pool);
+  const auto& a = one.grid.arrays.nodes;
+  const auto& f1 = two.grid.arrays.nodes;
+  const auto& f2 = two.grid.field2.nodes;
+  ASSERT_EQ(a.size(), f1.size());
+  double m_scale = 0, p_scale = 0;
+  for (const Node& n : a) m_scale = std::max(m_scale, n.m), p_scale = std::max(p_scale, std::hypot(n.vx, n.vy));
+  int both = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_NEAR(f1[k].m + f2[k].m, a[k].m, 1e-13 * m_scale) << k;
+    EXPECT_NEAR(f1[k].vx + f2[k].vx, a[k].vx, 1e-12 * p_scale) << k;
+    EXPECT_NEAR(f1[k].vy + f2[k].vy, a[k].vy, 1e-12 * p_scale) << k;
+    both += f1[k].m > 0 && f2[k].m > 0;
+  }
+  // The strut's and the bars' halves meet inside the solid: their nodes carry both fields.
+  EXPECT_GT(both, 0);
+}
+
+// A solid column cut by a horizontal gap: the block below moves up, the one above down, as two
+// faces of a closing pore do. Particles within gap_cells / 2 of the cut are removed; normals
+// point from the gap into each block. The cut lies off the grid's nodes (0.3 dx above one), so
+// that no node sits where the two faces' normals cancel exactly.
+State closing_gap(double gap_cells, PoreContact contact, double u) {
+  SceneParams p;
+  p.n_rows = 4, p.cells_per_unit = 8, p.phi = 1.0, p.eps_end = 0.01;
+  p.pore_contact = contact;
+  State s = build_scene(p);
+  Particles& P = s.particles;
+  const double yc = 0.5 * p.h0 + 0.3 * s.grid.dx, half = 0.5 * gap_cells * s.grid.dx;
+  const bool split = contact == PoreContact::split_fields;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < P.n; ++k) {
+    if (std::abs(P.y[k] - yc) < half) continue;
+    const bool above = P.y[k] > yc;
+    P.x[kept] = P.x[k], P.y[kept] = P.y[k];
+    P.vx[kept] = 0.0, P.vy[kept] = above ? -u : u;
+    P.C[kept] = {0, 0, 0, 0}, P.tau[kept] = {0, 0, 0};
+    if (split) P.nx[kept] = 0.0, P.ny[kept] = above ? 1.0 : -1.0;
+    ++kept;
+  }
+  P.n = kept;
+  s.grid.row_lo = 0, s.grid.row_hi = s.grid.ny;
+  ThreadPool pool(1);
+  p2g(s, 0.0, pool);
+  grid_update(s);
+  return s;
+}
+
+TEST(PoreContactGtest, TheFacesOfAnOpenGapKeepTheirOwnVelocities) {
+  const double u = 0.1;
+  // Particles 1.5 cells apart across the cut (faces about a cell apart): one field averages
+  // the faces' velocities on the nodes they share (the early contact); two fields leave each
+  // face its own.
+  const State one = closing_gap(1.0, PoreContact::single_field, u);
+  const State two = closing_gap(1.0, PoreContact::split_fields, u);
+  const Grid& g = two.grid;
+  int shared = 0;
+  for (int j = g.gy + 8; j < g.ny - g.gy - 8; ++j) {  // away from the plates
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * g.nx + i;
+      const Node &a = g.arrays.nodes[k], &b = g.field2.nodes[k];
+      if (!(a.m > 0 && b.m > 0)) continue;
+      ++shared;
+      // Which field is which face depends on the node's normal; each holds one face's velocity.
+      EXPECT_NEAR(std::abs(a.vy), u, 1e-12 * u) << "node " << k;
+      EXPECT_NEAR(a.vy, -b.vy, 1e-12 * u) << "node " << k;
+      EXPECT_LT(std::abs(one.grid.arrays.nodes[k].vy), u * (1 - 1e-3)) << "one field: averaged";
+    }
+  }
+  EXPECT_GT(shared, 0) << "the faces share nodes across a cell";
+}
+
+TEST(PoreContactGtest, AClosedGapMergesTheFieldsIntoOne) {
+  const double u = 0.1;
+  const State one = closing_gap(0.0, PoreContact::single_field, u);
+  const State two = closing_gap(0.0, PoreContact::split_fields, u);
+  const Grid& g = two.grid;
+  int merged = 0;
+  for (int j = g.gy + 8; j < g.ny - g.gy - 8; ++j) {
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * g.nx + i;
+      const Node &a = g.arrays.nodes[k], &b = g.field2.nodes[k], &o = one.grid.arrays.nodes[k];
+      if (!(b.m > 0)) continue;
+      ++merged;
+      EXPECT_GE(a.m, pore_contact::kMergeCoverage * two.particles.mass * 4) << "a full node";
+      EXPECT_DOUBLE_EQ(a.vy, b.vy) << "node " << k;
+      EXPECT_NEAR(a.vy, o.vy, 1e-12 * u) << "node " << k << ": as one field";
+    }
+  }
+  EXPECT_GT(merged, 0);
+}
+
+}  // namespace
+}  // namespace compaction
