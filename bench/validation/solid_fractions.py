@@ -35,6 +35,8 @@ def main():
     ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "solid-fractions"))
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--table-only", action="store_true",
+                    help="run nothing: tabulate the requested runs found in --work, list the rest")
     ap.add_argument("--pore-contact", default="single_field", choices=("single_field", "split_fields"))
     ap.add_argument("--out", default=None,
                     help="default docs/validation/solid-fractions.md, or solid-fractions-split-fields.md")
@@ -54,7 +56,10 @@ def main():
                    "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - phi, "snapshot_eps": ""},
                   **({"pore_contact": "split_fields"} if split else {}))
               for phi in phis for e in examples}
-    dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
+    if a.table_only:  # the runs made so far, in --work; the others listed as not run
+        dirs = {n: os.path.join(a.work, n) for n in scenes if runs.finished(os.path.join(a.work, n))}
+    else:
+        dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
     classify_bin = os.path.join(a.bin, "compaction-classify")
 
     lines = ["# The six examples at phi = 0.3 to 0.6 (default resolution%s)"
@@ -69,6 +74,8 @@ def main():
              "|---|---|---|---|---|---|---|---|---|---|"]
     for e in examples:
         for phi in phis:
+            if "%s-phi%g%s" % (e, phi, suffix) not in dirs:
+                continue
             d = dirs["%s-phi%g%s" % (e, phi, suffix)]
             s = runs.summary(d)
             c = runs.classify(d, classify_bin)
@@ -82,6 +89,10 @@ def main():
                 fmt(transit), fmt(f.get("band_speed_transit_error"), 2), ideal,
                 "-" if transit is None else "%+.1f %%" % (100 * (transit / ideal - 1)),
                 c.get("n_reflections"), s["wall_seconds"]))
+    missing = ["(%s) at phi = %g" % (e, phi) for e in examples for phi in phis
+               if "%s-phi%g%s" % (e, phi, suffix) not in dirs]
+    if missing:
+        lines += ["", "Not run yet: " + ", ".join(missing) + "."]
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

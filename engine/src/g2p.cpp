@@ -36,9 +36,10 @@ struct GridView {
 // Grid to particle transfer for the n particles of one block, up to the trial Fe. Every array
 // is __restrict, so that the compiler vectorises it across the block: the stencil's nine nodes
 // are loaded per particle (gathers), the rest is arithmetic without branches.
-// kSplit: split_fields' second field and node normals (else null), the particles' normals.
+// kSplit: the offset of split_fields' second field in the nodes, the node normals and the
+// particles' normals (else 0 and null).
 struct SplitView {
-  const Node* second;
+  std::ptrdiff_t second;
   const double *nnx, *nny;
   double *pnx, *pny;
 };
@@ -57,7 +58,7 @@ template <bool kApic, bool kExact, bool kSplit>
     if constexpr (kSplit) nx = split.pnx[i], ny = split.pny[i];
     auto node = [&](std::ptrdiff_t k) -> const Node& {
       if constexpr (kSplit) {
-        if (pore_contact::second_field(nx, ny, split.nnx[k], split.nny[k])) return split.second[k];
+        k += pore_contact::second_field(nx, ny, split.nnx[k], split.nny[k]) ? split.second : 0;
       }
       return nodes[k];
     };
@@ -153,8 +154,8 @@ struct Gather {
       const std::size_t nb = std::min(kBlock, end - b0);
       SplitView split{};
       if constexpr (kSplit) {
-        split = {g.field2.nodes.data(), g.nnx.data(), g.nny.data(), P.nx.data() + b0,
-                 P.ny.data() + b0};
+        split = {static_cast<std::ptrdiff_t>(g.field2), g.nnx.data(), g.nny.data(),
+                 P.nx.data() + b0, P.ny.data() + b0};
       }
       transfer_block<kApic, kExact, kSplit>(
           nb, dt, view, g.col.data(), g.arrays.nodes.data(), g.arrays.mx.data(),

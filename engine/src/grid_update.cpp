@@ -32,7 +32,7 @@ void grid_update(State& s) {
   const double top = s.clock.top_y(su);
   double top_impulse = 0.0, bottom_impulse = 0.0;
   Node* nodes = g.arrays.nodes.data();
-  Node* second = su.split_fields ? g.field2.nodes.data() : nullptr;
+  Node* second = su.split_fields ? nodes + g.field2 : nullptr;
   for (int j = g.row_lo; j < g.row_hi; ++j) {
     const double y = (j - g.gy) * g.dx;
     const bool at_bottom = y <= 0.0, at_top = y >= top;

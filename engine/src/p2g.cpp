@@ -98,17 +98,16 @@ template <bool kApic, bool kExact>
 
 // The scatter of particles [begin, end) into `out`, one block at a time (run_loop in
 // simd_dispatch.hpp makes its variants and copies). The AVX2 copy updates a node as Lanes.
-// kSplit: a pair whose particle normal opposes the node's goes into `second` instead.
+// kSplit: a pair whose particle normal opposes the node's goes into the second field.
 template <bool kApic, bool kExact, bool kSplit = false>
 struct Scatter {
   template <bool kAvx2>
   [[gnu::always_inline]] static void run(const Particles& P, const Setup& s, const Grid& g,
-                                         NodeArrays& out, NodeArrays* second, std::size_t begin,
-                                         std::size_t end, double dt) {
+                                         NodeArrays& out, std::size_t begin, std::size_t end,
+                                         double dt) {
     const std::ptrdiff_t nx = g.nx;
     const int* col = g.col.data();
-    Node* first = out.nodes.data();
-    Node* nodes = first;
+    Node* nodes = out.nodes.data();
     ScatterBlock sb;
     for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
       const std::size_t nb = std::min(kScatterBlock, end - b0);
@@ -126,13 +125,12 @@ struct Scatter {
           const double hi[4] = {0.0, sb.qxx[b][k], sb.qyx[b][k], 0.0};
 #pragma GCC unroll 3
           for (int a = 0; a < 3; ++a) {
-            const std::ptrdiff_t i = row + cs[a];
+            std::ptrdiff_t i = row + cs[a];
             const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
             if constexpr (kSplit) {
               const std::size_t p = b0 + k;
-              nodes = pore_contact::second_field(P.nx[p], P.ny[p], g.nnx[i], g.nny[i])
-                          ? second->nodes.data()
-                          : first;
+              const bool second = pore_contact::second_field(P.nx[p], P.ny[p], g.nnx[i], g.nny[i]);
+              i += second ? static_cast<std::ptrdiff_t>(g.field2) : 0;
             }
             if constexpr (kAvx2) {
               Lanes n;
@@ -191,18 +189,19 @@ void p2g(State& s, double dt, ThreadPool& pool) {
   const std::size_t n = s.particles.n;
   if (s.setup.split_fields) {  // apic and mls (validate()); one thread
     clear_rows(g, g.arrays, false);
-    clear_rows(g, g.field2, false);
+    const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx + g.field2;
+    const std::size_t hi = static_cast<std::size_t>(g.row_hi) * g.nx + g.field2;
+    std::fill(g.arrays.nodes.begin() + lo, g.arrays.nodes.begin() + hi, Node{0, 0, 0, 0});
     scatter_normals(s.particles, g);
-    run_variant<Scatter<true, false, true>>(s.particles, s.setup, g, g.arrays, &g.field2,
-                                            std::size_t{0}, n, dt);
+    run_variant<Scatter<true, false, true>>(s.particles, s.setup, g, g.arrays, std::size_t{0},
+                                            n, dt);
     return;
   }
   pool.run([&](int t) {
     NodeArrays& out = t == 0 ? g.arrays : g.scratch[t - 1];
     clear_rows(g, out, !apic);
     const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    run_loop<Scatter>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, g, out,
-                      static_cast<NodeArrays*>(nullptr), b, e, dt);
+    run_loop<Scatter>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, g, out, b, e, dt);
   });
   if (pool.size() == 1) return;
   // Sum the threads' arrays into the grid, each thread a share of the rows, in a fixed order

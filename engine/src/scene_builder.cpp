@@ -44,8 +44,9 @@ void build_grid(const SceneParams& p, Grid& g) {
     g.arrays.my.assign(nodes, 0.0);
   }
   g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
-  if (p.pore_contact == PoreContact::split_fields) {
-    g.field2.nodes.assign(nodes, Node{0, 0, 0, 0});
+  if (p.pore_contact == PoreContact::split_fields) {  // P2G on one thread: no scratch fields
+    g.field2 = nodes;
+    g.arrays.nodes.assign(2 * nodes, Node{0, 0, 0, 0});
     g.nnx.assign(nodes, 0.0);
     g.nny.assign(nodes, 0.0);
   }

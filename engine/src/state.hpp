@@ -54,9 +54,10 @@ struct Grid {
   std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
   int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
   int cells_x = 0, cells_y = 0;  // grid cells across and along the specimen (map rows: cells_y)
-  // split_fields only (else empty): the second velocity field (particles whose normal opposes
-  // the node's; `arrays` holds the first) and the node normal, sum of w n_p.
-  NodeArrays field2;
+  // split_fields only: arrays.nodes holds two fields, the second (particles whose normal
+  // opposes the node's) from this offset on, so that the transfers pick a field by index; and
+  // the node normal, sum of w n_p (else empty). 0 with one field.
+  std::size_t field2 = 0;
   std::vector<double> nnx, nny;
 };
 
