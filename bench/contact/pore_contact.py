@@ -15,6 +15,7 @@ validate() refuses at a resolution is listed with its reason.
 """
 import argparse
 import os
+import shutil
 import subprocess
 import sys
 
@@ -136,6 +137,15 @@ def main():
     lines += ["", "Wall times and ns per particle-step are those of the runs, %d at a time, and of "
               "whatever else the machine ran then: read the cost of each setting in "
               "bench/results/engine_bench.md, measured in one run." % a.jobs]
+    # The snapshots beside the table: the compacted zone's remaining pores, as a reader sees them.
+    images = os.path.splitext(a.out)[0]
+    os.makedirs(images, exist_ok=True)
+    for name, out in sorted(dirs.items()):
+        snap = runs.summary(out)["snapshots"][0]["image"]
+        shutil.copyfile(os.path.join(out, snap), os.path.join(images, name + ".png"))
+    lines += ["", "Snapshots at eps = 0.18 (plastic strain rate, the compacted zone above the "
+              "front): %s/<run>.png, e.g. `a-c20-single_field.png` and `a-c20-split_fields.png`."
+              % os.path.relpath(images, os.path.dirname(os.path.abspath(a.out)))]
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     with open(a.out, "w") as fh:
         fh.write("\n".join(lines) + "\n")
