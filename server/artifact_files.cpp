@@ -21,7 +21,7 @@ namespace {
   throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
 }
 
-void write_synced(const fs::path& p, const std::string& data) {
+void write_file(const fs::path& p, const std::string& data) {
   const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) io_error("cannot create", p);
   std::size_t done = 0;
@@ -34,26 +34,18 @@ void write_synced(const fs::path& p, const std::string& data) {
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    io_error("cannot flush", p);
-  }
-  ::close(fd);
-}
-
-void sync_folder(const fs::path& p) {
-  const int fd = ::open(p.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) io_error("cannot open", p);
-  const int r = ::fsync(fd);
-  ::close(fd);
-  if (r != 0) io_error("cannot flush", p);
+  if (::close(fd) != 0) io_error("cannot write", p);
 }
 
 }  // namespace
 
-ArtifactFiles::ArtifactFiles(fs::path root) : root_(std::move(root)) {
+ArtifactFiles::ArtifactFiles(fs::path root) : root_(std::move(root)), group_([this] { sync(); }) {
   fs::create_directories(root_);
+  root_fd_ = ::open(root_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (root_fd_ < 0) io_error("cannot open", root_);
 }
+
+ArtifactFiles::~ArtifactFiles() { ::close(root_fd_); }
 
 std::vector<std::string> ArtifactFiles::write(const std::string& folder,
                                               const std::vector<Artifact>& artifacts) {
@@ -62,16 +54,25 @@ std::vector<std::string> ArtifactFiles::write(const std::string& folder,
   try {
     fs::create_directories(dir);
     for (const Artifact& a : artifacts) {
-      write_synced(dir / a.name, a.data);
+      write_file(dir / a.name, a.data);
       paths.push_back(folder + "/" + a.name);
     }
-    sync_folder(dir);
-    sync_folder(root_);
+    group_.wait();
   } catch (...) {
     remove(folder);
     throw;
   }
   return paths;
+}
+
+void ArtifactFiles::sync() {
+  // One syncfs writes every dirty file and folder of the file system and flushes the disk's
+  // cache once: the files, folders and root entries of all the uploads written before it. A
+  // sync of each file, its folder and the root costs a cache flush each on ext4 without a
+  // journal (this machine's disk), and their serial form in one thread was slower than the
+  // uploads' own; the price of syncfs is the other programs' writes on the same file system,
+  // which it flushes too (bench/results/queue_bench.md measures both).
+  if (::syncfs(root_fd_) != 0) io_error("cannot flush the file system of", root_);
 }
 
 std::string ArtifactFiles::read(const std::string& relative_path) const {

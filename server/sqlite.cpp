@@ -163,36 +163,21 @@ void Transaction::commit() {
   if (db_.total_changes() != changes_at_begin_) ++db_.commits_;
 }
 
-WalSync::WalSync(Database& db, std::string path) : db_(db), wal_path_(std::move(path) + "-wal") {}
+WalSync::WalSync(std::string path)
+    : wal_path_(std::move(path) + "-wal"), group_([this] { sync(); }) {}
 
 WalSync::~WalSync() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void WalSync::wait_durable(std::uint64_t commit) {
-  std::unique_lock lock(mutex_);
+void WalSync::sync() {
   if (fd_ < 0) {  // SQLite makes the WAL file with the first commit; it stays while db is open
     fd_ = ::open(wal_path_.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd_ < 0) throw Error("cannot open " + wal_path_ + ": " + std::strerror(errno));
   }
-  while (synced_ < commit) {
-    if (syncing_) {
-      synced_cv_.wait(lock);
-      continue;
-    }
-    // Every commit counted so far is in the WAL file's pages: one fsync covers them all. (A
-    // checkpoint that moved them into the database file synced both files already.)
-    const std::uint64_t target = db_.commits();
-    syncing_ = true;
-    lock.unlock();
-    const int r = ::fdatasync(fd_);
-    const int err = errno;
-    lock.lock();
-    syncing_ = false;
-    synced_cv_.notify_all();
-    if (r != 0) throw Error(std::string("cannot sync the WAL: ") + std::strerror(err));
-    synced_ = std::max(synced_, target);
-  }
+  // Every commit made so far is in the WAL file's pages: one fdatasync covers them all. (A
+  // checkpoint that moved them into the database file synced both files already.)
+  if (::fdatasync(fd_) != 0) throw Error(std::string("cannot sync the WAL: ") + std::strerror(errno));
 }
 
 ReadTransaction::ReadTransaction(Database& db) : db_(db) { db_.prepare("BEGIN").run(); }

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -12,7 +11,10 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
+
+#include "group_sync.hpp"
 
 struct sqlite3;
 struct sqlite3_stmt;
@@ -118,28 +120,26 @@ class Transaction {
   bool done_ = false;
 };
 
-// Makes commits durable: an fsync of the database's WAL file, shared by every commit made
-// before it starts (group commit), so that concurrent writers that need durability wait for
-// one sync between them instead of one each.
+// Makes commits durable: an fdatasync of the database's WAL file, shared by every commit made
+// before it starts (group commit, GroupSync), so that concurrent writers that need durability
+// wait for one sync between them instead of one each.
 class WalSync {
  public:
-  // db: the writer connection of the file at path, already in WAL mode.
-  WalSync(Database& db, std::string path);
+  // path: the database file, already in WAL mode.
+  explicit WalSync(std::string path);
   ~WalSync();
   WalSync(const WalSync&) = delete;
   WalSync& operator=(const WalSync&) = delete;
 
-  // Returns once the commit numbered `commit` (Database::commits() after it) is on disk.
-  void wait_durable(std::uint64_t commit);
+  // Returns once every commit made before the call (on any connection of the file) is on disk.
+  void wait_durable() { group_.wait(); }
 
  private:
-  Database& db_;
+  void sync();
+
   const std::string wal_path_;
-  int fd_ = -1;
-  std::mutex mutex_;
-  std::condition_variable synced_cv_;
-  std::uint64_t synced_ = 0;  // every commit up to this number is on disk
-  bool syncing_ = false;
+  int fd_ = -1;  // opened by the first sync (only the syncing thread touches it)
+  GroupSync group_;
 };
 
 // A read transaction (BEGIN DEFERRED ... COMMIT): the statements inside it see one snapshot

@@ -13,7 +13,7 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
       writer(path),
       readers(path),
       files(path + ".artifacts"),
-      wal(writer, path) {
+      wal(path) {
   std::lock_guard lock(write_mutex);
   apply_migrations(writer, embedded_migrations());
   // Folders of results that were never committed (a crash between writing the files and the
@@ -28,9 +28,8 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
 }
 
 void StoreDb::wait_durable(std::unique_lock<std::mutex>& lock) {
-  const std::uint64_t commit = writer.commits();
   lock.unlock();
-  wal.wait_durable(commit);
+  wal.wait_durable();
 }
 
 void log_event(sqlite::Database& writer, std::int64_t job_id, Millis at, const char* kind,
