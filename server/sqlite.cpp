@@ -39,9 +39,35 @@ Database::Database(const std::string& path, int busy_timeout_ms, Access access) 
   prepare("PRAGMA foreign_keys = ON").run();
 }
 
-Database::~Database() { sqlite3_close_v2(db_); }
+Database::~Database() {
+  for (auto& [sql, stmt] : idle_statements_) sqlite3_finalize(stmt);
+  sqlite3_close_v2(db_);
+}
 
-Statement Database::prepare(std::string_view sql) { return Statement(db_, sql); }
+Statement Database::prepare(std::string_view sql) {
+  {
+    std::lock_guard lock(statements_mutex_);
+    if (auto it = idle_statements_.find(std::string(sql)); it != idle_statements_.end()) {
+      Statement s(*this, std::move(it->first), it->second);
+      idle_statements_.erase(it);
+      return s;
+    }
+  }
+  return Statement(*this, sql);
+}
+
+void Database::give_back(std::string sql, sqlite3_stmt* stmt) {
+  sqlite3_reset(stmt);
+  sqlite3_clear_bindings(stmt);
+  {
+    std::lock_guard lock(statements_mutex_);
+    if (idle_statements_.size() < max_idle_statements) {
+      idle_statements_.emplace(std::move(sql), stmt);
+      return;
+    }
+  }
+  sqlite3_finalize(stmt);
+}
 
 void Database::exec_script(const std::string& sql) {
   char* err = nullptr;
@@ -62,16 +88,27 @@ bool Database::has_row(std::string_view sql, std::int64_t id) {
 }
 std::int64_t Database::last_insert_rowid() const { return sqlite3_last_insert_rowid(db_); }
 
-Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
-  if (sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr) !=
+Statement::Statement(Database& owner, std::string_view sql)
+    : owner_(&owner), db_(owner.handle()), sql_(sql) {
+  if (sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr) !=
       SQLITE_OK) {
-    fail(db, "prepare failed for \"" + std::string(sql) + "\"");
+    sqlite3_finalize(stmt_);  // NULL after a failed prepare; finalize(NULL) is a no-op
+    stmt_ = nullptr;
+    fail(db_, "prepare failed for \"" + sql_ + "\"");
   }
 }
 
-Statement::~Statement() { sqlite3_finalize(stmt_); }
+Statement::Statement(Database& owner, std::string sql, sqlite3_stmt* stmt)
+    : owner_(&owner), db_(owner.handle()), sql_(std::move(sql)), stmt_(stmt) {}
 
-Statement::Statement(Statement&& o) noexcept : db_(o.db_), stmt_(o.stmt_) { o.stmt_ = nullptr; }
+Statement::~Statement() {
+  if (stmt_) owner_->give_back(std::move(sql_), stmt_);
+}
+
+Statement::Statement(Statement&& o) noexcept
+    : owner_(o.owner_), db_(o.db_), sql_(std::move(o.sql_)), stmt_(o.stmt_) {
+  o.stmt_ = nullptr;
+}
 
 Statement& Statement::bind(int i, std::int64_t v) {
   if (sqlite3_bind_int64(stmt_, i, v) != SQLITE_OK) fail(db_, "bind");

@@ -42,6 +42,9 @@ class Database {
   Database(const Database&) = delete;
   Database& operator=(const Database&) = delete;
 
+  // A statement compiled once per connection and kept: a Statement hands its compiled form
+  // back when it ends (reset, bindings cleared), and the next prepare of the same text takes it
+  // instead of parsing the SQL again.
   Statement prepare(std::string_view sql);
   // Runs a script of several statements without parameters (migration files only).
   void exec_script(const std::string& sql);
@@ -58,13 +61,22 @@ class Database {
 
  private:
   friend class Transaction;
+  friend class Statement;
+  // At most this many compiled statements wait for reuse on a connection (the queries built
+  // from filters have many texts; the queue's statements a few dozen).
+  static constexpr std::size_t max_idle_statements = 256;
+  void give_back(std::string sql, sqlite3_stmt* stmt);
+
   sqlite3* db_ = nullptr;
   std::atomic<std::uint64_t> commits_{0};
+  std::mutex statements_mutex_;
+  std::unordered_multimap<std::string, sqlite3_stmt*> idle_statements_;
 };
 
 class Statement {
  public:
-  Statement(sqlite3* db, std::string_view sql);
+  // Compiles sql on the connection (Database::prepare takes a kept one when it can).
+  Statement(Database& owner, std::string_view sql);
   ~Statement();
   Statement(Statement&& o) noexcept;
   Statement(const Statement&) = delete;
@@ -100,7 +112,12 @@ class Statement {
   std::string blob(int col) const;
 
  private:
+  friend class Database;
+  Statement(Database& owner, std::string sql, sqlite3_stmt* stmt);
+
+  Database* owner_ = nullptr;
   sqlite3* db_ = nullptr;
+  std::string sql_;  // the text it was prepared from: its key among the kept statements
   sqlite3_stmt* stmt_ = nullptr;
 };
 
