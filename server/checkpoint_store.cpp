@@ -155,6 +155,13 @@ std::vector<Resume> CheckpointStore::resumes(std::int64_t job_id) {
 }
 
 void CheckpointStore::remove_if_done(std::int64_t job_id) {
+  {
+    // Most jobs end without a checkpoint: a read says so without taking the write lock. A job
+    // that ended takes no new checkpoint (put needs its live lease), so none appears after it.
+    auto db = db_.readers.take();
+    sqlite::ReadTransaction read(*db);
+    if (!db->has_row("SELECT 1 FROM job_checkpoints WHERE job_id = ?", job_id)) return;
+  }
   std::optional<std::string> path;
   {
     std::lock_guard lock(db_.write_mutex);
