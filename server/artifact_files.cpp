@@ -1,6 +1,7 @@
 #include "artifact_files.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -73,6 +74,11 @@ void ArtifactFiles::sync() {
   // uploads' own; the price of syncfs is the other programs' writes on the same file system,
   // which it flushes too (bench/results/queue_bench.md measures both).
   if (::syncfs(root_fd_) != 0) io_error("cannot flush the file system of", root_);
+}
+
+bool ArtifactFiles::same_file_system(const fs::path& path) const {
+  struct stat a {}, b {};
+  return ::fstat(root_fd_, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_dev == b.st_dev;
 }
 
 std::string ArtifactFiles::read(const std::string& relative_path) const {

@@ -31,6 +31,13 @@ class ArtifactFiles {
   // in order. Throws std::runtime_error on I/O errors (and leaves nothing behind).
   std::vector<std::string> write(const std::string& folder, const std::vector<Artifact>& artifacts);
 
+  // Returns once everything written on the root's file system before the call (any file of
+  // it, not only artifacts) is on disk: a round of the same shared syncfs as write's.
+  void wait_synced() { group_.wait(); }
+
+  // Whether path is on the root's file system (its writes are in wait_synced's flush).
+  bool same_file_system(const std::filesystem::path& path) const;
+
   // The bytes of a file by its relative path; throws std::runtime_error when it is missing.
   std::string read(const std::string& relative_path) const;
 

@@ -139,7 +139,8 @@ class Transaction {
 
 // Makes commits durable: an fdatasync of the database's WAL file, shared by every commit made
 // before it starts (group commit, GroupSync), so that concurrent writers that need durability
-// wait for one sync between them instead of one each.
+// wait for one sync between them instead of one each. (StoreDb uses it only when the artifacts
+// are on another file system; otherwise their syncfs covers the WAL.)
 class WalSync {
  public:
   // path: the database file, already in WAL mode.

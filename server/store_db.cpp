@@ -16,6 +16,7 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
       wal(path) {
   std::lock_guard lock(write_mutex);
   apply_migrations(writer, embedded_migrations());
+  wal_synced_with_files = files.same_file_system(path);
   // Folders of results that were never committed (a crash between writing the files and the
   // transaction): nothing names them.
   std::set<std::string> keep;
@@ -29,7 +30,11 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
 
 void StoreDb::wait_durable(std::unique_lock<std::mutex>& lock) {
   lock.unlock();
-  wal.wait_durable();
+  if (wal_synced_with_files) {
+    files.wait_synced();
+  } else {
+    wal.wait_durable();
+  }
 }
 
 void log_event(sqlite::Database& writer, std::int64_t job_id, Millis at, const char* kind,

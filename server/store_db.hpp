@@ -40,6 +40,10 @@ struct StoreDb {
   sqlite::ReaderPool readers;
   ArtifactFiles files;
   sqlite::WalSync wal;
+  // The WAL is on the artifacts' file system (the usual case: <db>.artifacts/ beside <db>): the
+  // artifacts' shared syncfs makes commits durable too, so that a complete's two waits (its
+  // files, then its commit) join the same rounds as the other uploads' instead of two kinds.
+  bool wal_synced_with_files = false;
 
   // Called right after a commit on the writer, with its lock: lets go of the lock, then returns
   // once that commit is on disk. For what a client is told is stored and would not make again
