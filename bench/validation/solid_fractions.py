@@ -69,7 +69,9 @@ def main():
              "c_b/V in both readings (fit: slope of the leading edge before its first turn; transit: "
              "mean speed of the first leg; docs/classifier.md), with their uncertainty, against "
              "the non-reflecting speed 1/(1 - phi_discrete) of the particles' structure."
-             % (" ".join(sys.argv[1:]), CELLS_PER_STRUT), "",
+             % (" ".join(sys.argv[1:]), CELLS_PER_STRUT)
+             + (" The runs were made by earlier calls with the same flags but --table-only, each for "
+                "the examples and solid fractions it names." if a.table_only else ""), "",
              "| example | phi | cells per unit cell (per strut) | label (confidence) | c_b/V fit | c_b/V transit | 1/(1 - phi) | transit against it | N_r | wall [s] |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for e in examples:
