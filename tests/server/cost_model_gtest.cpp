@@ -55,6 +55,9 @@ TEST(CostModel, other_numerics_and_full_2d_cost_their_measured_factors) {
   p.gradient = Gradient::bspline;
   EXPECT_NEAR(cost::cpu_seconds(p) / base, cost::kBsplineFactor, 1e-12);
   p = example_a();
+  p.pore_contact = PoreContact::split_fields;
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, cost::kSplitFieldsFactor, 1e-12);
+  p = example_a();
   p.geometry = Geometry::full2d;  // 17 unit cells across
   EXPECT_NEAR(cost::particles(p) / cost::particles(example_a()), 17.0, 1e-12);
   EXPECT_NEAR(cost::cpu_seconds(p) / base, 17.0 * cost::kFull2dFactor, 1e-9);
