@@ -74,7 +74,8 @@ void face_normal(const VoidLayout& voids, int per_unit, double spacing, double w
       }
       const Void& v = voids.at(vx, vy);
       if (v.empty()) continue;
-      const double x0 = (vx * per_unit + v.x0) * spacing + shift, x1 = (vx * per_unit + v.x1) * spacing + shift;
+      const double x0 = (vx * per_unit + v.x0) * spacing + shift;
+      const double x1 = (vx * per_unit + v.x1) * spacing + shift;
       const double y0 = (vy * per_unit + v.y0) * spacing, y1 = (vy * per_unit + v.y1) * spacing;
       const double ox = px - std::clamp(px, x0, x1), oy = py - std::clamp(py, y0, y1);
       const double d = std::hypot(ox, oy);

@@ -85,7 +85,10 @@ TEST(PoreContactGtest, TheTwoFieldsOfANodeHoldWhatOneFieldHolds) {
   const Node* f1 = two.grid.arrays.nodes.data();
   const Node* f2 = f1 + two.grid.field2;
   double m_scale = 0, p_scale = 0;
-  for (const Node& n : a) m_scale = std::max(m_scale, n.m), p_scale = std::max(p_scale, std::hypot(n.vx, n.vy));
+  for (const Node& n : a) {
+    m_scale = std::max(m_scale, n.m);
+    p_scale = std::max(p_scale, std::hypot(n.vx, n.vy));
+  }
   int both = 0;
   for (std::size_t k = 0; k < a.size(); ++k) {
     EXPECT_NEAR(f1[k].m + f2[k].m, a[k].m, 1e-13 * m_scale) << k;
