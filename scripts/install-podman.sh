@@ -8,9 +8,12 @@
 #   netavark, aardvark-dns  the network backend whose DNS lets the workers reach the server by
 #                           its service name (Debian's default CNI backend needs the dnsname
 #                           plugin for that)
+#   iptables                what netavark 1.4 sets a network's firewall rules with: without it a
+#                           build's RUN step fails with "netavark: No such file or directory"
+#                           (the package declares no dependency on it)
 #   debootstrap             the base image, a minimal Debian 12 from Debian's packages
 # Nothing is configured here: scripts/podman-conf.sh writes the settings into a folder of its own.
 set -euo pipefail
 # shellcheck source=lib/apt.sh
 . "$(dirname "${BASH_SOURCE[0]}")/lib/apt.sh"
-apt_install_missing podman podman-compose runc netavark aardvark-dns debootstrap
+apt_install_missing podman podman-compose runc netavark aardvark-dns iptables debootstrap

@@ -19,7 +19,7 @@ docker/compose.yaml with podman-compose (docs/cluster.md, "Containers"):
   their leases back, the server closes its database); `down` removes them, the network and the
   volume. At exit, also after a failure, the containers, images and the temporary folder go.
 Prints the time of each step and the images' sizes. Needs root (rootful podman, debootstrap);
-scripts/install-podman.sh installs podman, podman-compose, runc, netavark, aardvark-dns and
+scripts/install-podman.sh installs podman, podman-compose, runc, netavark, aardvark-dns, iptables and
 debootstrap when missing. Fails, never skips, when something is missing.
 usage: container_test.py [--worktree]"""
 import atexit
