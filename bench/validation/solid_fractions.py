@@ -46,12 +46,15 @@ def main():
         a.out = os.path.join(runs.ROOT, "docs", "validation",
                              "solid-fractions-split-fields.md" if split else "solid-fractions.md")
     suffix = "-split_fields" if split else ""
+
+    def name(e, phi):  # a run's folder in --work
+        return "%s-phi%g%s" % (e, phi, suffix)
     phis = [float(p) for p in a.phi.split(",")]
     examples = [e for e in a.examples.split(",") if e]
     for e in examples:
         if e not in EXAMPLES:
             ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
-    scenes = {"%s-phi%g%s" % (e, phi, suffix): dict(
+    scenes = {name(e, phi): dict(
                   {"S": EXAMPLES[e][0], "R": EXAMPLES[e][1], "phi": phi,
                    "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - phi, "snapshot_eps": ""},
                   **({"pore_contact": "split_fields"} if split else {}))
@@ -76,9 +79,9 @@ def main():
              "|---|---|---|---|---|---|---|---|---|---|"]
     for e in examples:
         for phi in phis:
-            if "%s-phi%g%s" % (e, phi, suffix) not in dirs:
+            if name(e, phi) not in dirs:
                 continue
-            d = dirs["%s-phi%g%s" % (e, phi, suffix)]
+            d = dirs[name(e, phi)]
             s = runs.summary(d)
             c = runs.classify(d, classify_bin)
             f = c.get("features") or {}
@@ -92,7 +95,7 @@ def main():
                 "-" if transit is None else "%+.1f %%" % (100 * (transit / ideal - 1)),
                 c.get("n_reflections"), s["wall_seconds"]))
     missing = ["(%s) at phi = %g" % (e, phi) for e in examples for phi in phis
-               if "%s-phi%g%s" % (e, phi, suffix) not in dirs]
+               if name(e, phi) not in dirs]
     if missing:
         lines += ["", "Not run yet: " + ", ".join(missing) + "."]
     with open(a.out, "w") as f:
