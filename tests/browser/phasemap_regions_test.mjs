@@ -162,10 +162,13 @@ test('the phase map draws the predicted regions under its markers and exports SV
     const ticks = await page.locator('#map-plot .plot-svg text.ticklabel').evaluateAll((ts) => ts.map((t) => t.textContent));
     assert.ok(ticks.length >= 6);
     for (const t of ticks) assert.match(t.replace(/\s/g, ''), /^(1|10|[2-9]0?|([2-9](\.\d)?×)?10−?\d+)$/, `tick label "${t}"`);
-    const size = await page.locator('#map-plot canvas').evaluate((c) => [c.clientWidth, c.clientHeight]);
+    // Positions and plot area of one render (a live update may replace the canvas meanwhile).
+    const { area } = st;
+    assert.ok(area.width > 200 && area.height > 200, `plot area ${area.width} x ${area.height}`);
     for (const p of st.points) {
       const edge = st.radius * 1.3;
-      assert.ok(p.x >= edge && p.y >= edge && p.x <= size[0] - edge && p.y <= size[1] - edge, `run ${p.job_id} at (${p.x}, ${p.y}) is cut by the frame`);
+      assert.ok(p.x >= edge && p.y >= edge && p.x <= area.width - edge && p.y <= area.height - edge,
+        `run ${p.job_id} at (${p.x}, ${p.y}) is cut by the frame of the ${area.width} x ${area.height} plot area`);
     }
 
     // --- Exports: an SVG with axes, background, every marker and the legend; a PNG of it.

@@ -237,12 +237,13 @@ function regionTipHtml(cell) {
 }
 
 // For the browser tests and the render benchmark (bench/dashboard).
-function publishRender(root, phi, ms, { drawn, positions, counts, radius, markers }, regions) {
+function publishRender(root, phi, ms, plot, { drawn, positions, counts, radius, markers }, regions) {
   const hook = (window.__dashboard ||= { renders: [] });
   hook.renders.push(ms);
   hook.renderedAt = performance.now();
   hook.phaseMap = {
     phi, count: drawn.length, counts, renderMs: ms, radius,
+    area: { width: plot.pw, height: plot.ph }, // the canvas over the plot area, in CSS pixels
     regions: regions ? { grid: regions.data.grid, runs: regions.data.runs, x0: regions.x0, y0: regions.y0, x1: regions.x1, y1: regions.y1 } : null,
     points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1], fade: markers[i].fade, ring: markers[i].ring })),
   };
@@ -354,11 +355,16 @@ export function mount(root, params) {
     }
   }
 
+  // The figure's size for the page's width and the window's height.
+  function figureSize() {
+    const width = Math.max(560, Math.min(1100, plotBox.clientWidth || 760));
+    return { width, height: Math.round(Math.min(width * 0.68, Math.max(480, window.innerHeight - 250))) };
+  }
+
   function render() {
     const t0 = performance.now();
     const pts = visiblePoints();
-    const width = Math.max(560, Math.min(1100, plotBox.clientWidth || 760));
-    const height = Math.round(Math.min(width * 0.68, Math.max(480, window.innerHeight - 250)));
+    const { width, height } = figureSize();
     const margin = { l: 78, r: 24, t: 18, b: 60 };
     const r = markerRadius(pts.length);
     const xDom = fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
@@ -399,7 +405,7 @@ export function mount(root, params) {
       note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}`,
         ...(shownRegions ? [`regions from ${shownRegions.data.runs} labelled runs`] : [])],
     };
-    publishRender(root, state.phi, performance.now() - t0, marks, shownRegions);
+    publishRender(root, state.phi, performance.now() - t0, plot, marks, shownRegions);
   }
 
   function exportName(ext) {
@@ -497,7 +503,17 @@ export function mount(root, params) {
   regionsBox.addEventListener('change', () => { state.regions = regionsBox.checked; syncUrl(); render(); loadRegions(); });
   $('map-export-svg').addEventListener('click', () => exportFigure('svg'));
   $('map-export-png').addEventListener('click', () => exportFigure('png'));
-  const onResize = () => { clearTimeout(onResize.t); onResize.t = setTimeout(() => alive && render(), 150); };
+  // Redraws after a resize only when the figure's size or the canvas's pixel density changes
+  // (a zoom), not for every window event.
+  const onResize = () => {
+    clearTimeout(onResize.t);
+    onResize.t = setTimeout(() => {
+      if (!alive) return;
+      const { width, height } = figureSize();
+      const dpr = window.devicePixelRatio || 1;
+      if (!plot || width !== plot.opts.width || height !== plot.opts.height || plot.canvas.width !== Math.round(plot.pw * dpr)) render();
+    }, 150);
+  };
   window.addEventListener('resize', onResize);
 
   (async () => {
