@@ -18,7 +18,7 @@ double cpu_seconds(const SceneParams& p) {
   double ns = kNsPerParticleStep;
   if (p.transfer == Transfer::pic_flip) ns *= kPicFlipFactor;
   if (p.gradient == Gradient::bspline) ns *= kBsplineFactor;
-  if (p.pore_contact == PoreContact::split_fields) ns *= kSplitFieldsFactor;
+  if (resolved_pore_contact(p) == PoreContact::split_fields) ns *= kSplitFieldsFactor;
   if (p.geometry == Geometry::full2d) ns *= kFull2dFactor;
   return particles(p) * steps(p) * ns * 1e-9;
 }

@@ -147,6 +147,8 @@ SceneParams make_scene(const SceneParams& base, double S, double R, double phi,
     }
     throw ApiError(422, std::move(named));
   }
+  // A job names the contact it runs with (its identity and its page): "auto" resolved here.
+  p.pore_contact = resolved_pore_contact(p);
   const std::size_t bundle = bundle_size_bound(p);
   if (bundle > limits.max_bundle_bytes) {
     // named after what takes most of it: the movie or the snapshots

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "compaction/params.hpp"
+
 namespace compaction::server {
 
 struct Preset {
@@ -17,6 +19,7 @@ struct Preset {
   double cells_per_strut;  // grid cells across the thinnest strut, at any phi  [-]
   int particles_per_cell;  // per direction                                    [-]
   double cfl;              // time step factor                                 [-]
+  PoreContact pore_contact;  // how closing pores are resolved (docs/engine.md)
 };
 
 const std::vector<Preset>& presets();

@@ -90,7 +90,8 @@ void register_service_routes(httplib::Server& server, App& app) {
                      {"description", p.description},
                      {"cells_per_strut", p.cells_per_strut},
                      {"particles_per_cell", p.particles_per_cell},
-                     {"cfl", p.cfl}});
+                     {"cfl", p.cfl},
+                     {"pore_contact", to_string(p.pore_contact)}});
     }
     send_json(res, 200, {{"presets", out}, {"default", default_preset_name}});
   });

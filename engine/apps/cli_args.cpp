@@ -52,7 +52,8 @@ const SceneFlag kSceneFlags[] = {
     {"--contact", "contact", Kind::text, nullptr, "plate contact: bonded | unilateral"},
     {"--gradient", "gradient", Kind::text, nullptr, "force and Fe gradient: mls | bspline"},
     {"--pore-contact", "pore_contact", Kind::text, nullptr,
-     "closing pores: single_field | split_fields (two velocity fields until a gap closes)"},
+     "closing pores: single_field | split_fields (two velocity fields until a gap closes) | "
+     "auto (split_fields where 3 grid cells span the thinnest strut)"},
     {"--perturbation", "perturbation", Kind::real, &limits::perturbation,
      "random particle offset / spacing"},
     {"--seed", "seed", Kind::unsigned_integer, nullptr,

@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
   if (opt.check) {
     nlohmann::json scene = to_json(opt.params);
     scene["grid"] = {{"cells_per_unit", opt.params.grid_cells_per_unit()},
-                     {"cells_per_strut", opt.params.grid_cells_per_strut()}};
+                     {"cells_per_strut", opt.params.grid_cells_per_strut()},
+                     {"pore_contact", to_string(resolved_pore_contact(opt.params))}};
     std::cout << scene.dump() << '\n';
     return 0;
   }
@@ -72,8 +73,9 @@ int main(int argc, char** argv) {
   if (mode == cli::ProgressMode::json) log->set_level(spdlog::level::warn);
 
   log->info("scene S={} R={} phi={} geometry={} cells_per_unit={} cells_per_strut={:.3g} "
-            "eps_end={} out={}", p.S, p.R, p.phi, to_string(p.geometry), p.grid_cells_per_unit(),
-            p.grid_cells_per_strut(), p.eps_final(), opt.out_dir);
+            "pore_contact={} eps_end={} out={}", p.S, p.R, p.phi, to_string(p.geometry),
+            p.grid_cells_per_unit(), p.grid_cells_per_strut(),
+            to_string(resolved_pore_contact(p)), p.eps_final(), opt.out_dir);
 
   RunControl control;
   control.cancel = &g_cancel;

@@ -71,6 +71,26 @@ std::string to_string(const Range& r) {
   return s;
 }
 
+namespace {
+// The thinnest strut's width [m]: the regular strut, or a random structure's thinnest one.
+double thinnest_strut(const SceneParams& p) {
+  return p.structure == Structure::random
+             ? p.unit_cell() * random_structure::thinnest_strut_fraction(p.phi)
+             : p.unit_cell() - p.hole_side();
+}
+}  // namespace
+
+double thinnest_strut_cells(const SceneParams& p) {
+  return thinnest_strut(p) / (p.unit_cell() / p.grid_cells_per_unit());
+}
+
+PoreContact resolved_pore_contact(const SceneParams& p) {
+  if (p.pore_contact != PoreContact::automatic) return p.pore_contact;
+  const bool allowed = p.transfer == Transfer::apic && p.gradient == Gradient::mls &&
+                       p.phi != 1.0 && thinnest_strut_cells(p) >= kSplitFieldsMinStrutCells;
+  return allowed ? PoreContact::split_fields : PoreContact::single_field;
+}
+
 std::vector<FieldError> validate(const SceneParams& p) {
   std::vector<FieldError> e;
   check_range(e, "S", p.S, limits::S);
@@ -134,8 +154,7 @@ std::vector<FieldError> validate(const SceneParams& p) {
     const bool random = p.structure == Structure::random;
     const double hole = random ? p.unit_cell() * random_structure::smallest_void_fraction(p.phi)
                                : p.hole_side();
-    const double strut = random ? p.unit_cell() * random_structure::thinnest_strut_fraction(p.phi)
-                                : p.unit_cell() - p.hole_side();
+    const double strut = thinnest_strut(p);
     if (p.phi != 1.0 && (hole < dx || strut < dx)) {
       e.push_back({field, std::string("too coarse for ") + (random ? "a random structure at " : "") +
                               "phi = " + num(p.phi) + ": " + (random ? "smallest hole " : "hole ") +
@@ -194,11 +213,17 @@ bool parse(const std::string& s, Transfer& out) {
   return false;
 }
 const char* to_string(PoreContact c) {
-  return c == PoreContact::single_field ? "single_field" : "split_fields";
+  switch (c) {
+    case PoreContact::single_field: return "single_field";
+    case PoreContact::split_fields: return "split_fields";
+    case PoreContact::automatic: return "auto";
+  }
+  return "?";
 }
 bool parse(const std::string& s, PoreContact& out) {
   if (s == "single_field") return out = PoreContact::single_field, true;
   if (s == "split_fields") return out = PoreContact::split_fields, true;
+  if (s == "auto") return out = PoreContact::automatic, true;
   return false;
 }
 

@@ -44,7 +44,7 @@ void build_grid(const SceneParams& p, Grid& g) {
     g.arrays.my.assign(nodes, 0.0);
   }
   g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
-  if (p.pore_contact == PoreContact::split_fields) {  // P2G on one thread: no scratch fields
+  if (resolved_pore_contact(p) == PoreContact::split_fields) {  // P2G on one thread: no scratch
     g.field2 = nodes;
     g.arrays.nodes.assign(2 * nodes, Node{0, 0, 0, 0});
     g.nnx.assign(nodes, 0.0);
@@ -98,7 +98,7 @@ Setup make_setup(const SceneParams& p) {
   su.flip_ratio = p.flip_ratio;
   su.gradient = p.gradient;
   su.contact = p.contact;
-  su.split_fields = p.pore_contact == PoreContact::split_fields;
+  su.split_fields = resolved_pore_contact(p) == PoreContact::split_fields;
   su.side_walls = p.geometry == Geometry::full2d;
   return su;
 }

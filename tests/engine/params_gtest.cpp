@@ -85,6 +85,42 @@ TEST(ParamsGtest, SplitFieldsNeedApicMlsAndThreeCellsAcrossTheStrut) {
   EXPECT_TRUE(validate(p).empty());
 }
 
+// auto is split_fields exactly where split_fields would be valid, else single_field, and is
+// itself always valid; a scene reports what it resolves to (resolved_pore_contact).
+TEST(ParamsGtest, AutoPoreContactSplitsWhereTheGridResolvesTheThinnestStrut) {
+  SceneParams p;
+  p.pore_contact = PoreContact::automatic;
+  const auto resolved_and_valid = [&] {
+    const auto e = validate(p);
+    EXPECT_TRUE(e.empty()) << e.front().field << ": " << e.front().message;
+    return resolved_pore_contact(p);
+  };
+  EXPECT_EQ(resolved_and_valid(), PoreContact::split_fields);  // 4.5 cells across the strut
+  p.cells_per_unit = 13;                                       // 2.94 cells
+  EXPECT_EQ(resolved_and_valid(), PoreContact::single_field);
+  p.cells_per_unit = 14;                                       // 3.14 cells
+  EXPECT_EQ(resolved_and_valid(), PoreContact::split_fields);
+  p.cells_per_unit = 0;
+  p.structure = Structure::random;  // the thinnest strut: half the regular one, 2.25 cells
+  EXPECT_EQ(resolved_and_valid(), PoreContact::single_field);
+  p.cells_per_strut = 6.0;  // 3 cells across the thinnest random strut
+  EXPECT_EQ(resolved_and_valid(), PoreContact::split_fields);
+  p.transfer = Transfer::pic_flip;
+  EXPECT_EQ(resolved_and_valid(), PoreContact::single_field);
+  p.transfer = Transfer::apic, p.gradient = Gradient::bspline;
+  EXPECT_EQ(resolved_and_valid(), PoreContact::single_field);
+  p.gradient = Gradient::mls, p.phi = kSolidColumnPhi, p.eps_end = 0.01;  // no pores to close
+  EXPECT_EQ(resolved_and_valid(), PoreContact::single_field);
+  for (PoreContact c : {PoreContact::single_field, PoreContact::split_fields}) {
+    p.pore_contact = c;  // an explicit choice is kept (validate() refuses what cannot run)
+    EXPECT_EQ(resolved_pore_contact(p), c);
+  }
+  PoreContact parsed{};
+  ASSERT_TRUE(parse("auto", parsed));
+  EXPECT_EQ(parsed, PoreContact::automatic);
+  EXPECT_STREQ(to_string(PoreContact::automatic), "auto");
+}
+
 // The spread of the void areas: kAreaSpread where the largest void leaves kMinStrut of the
 // regular strut, less at low phi; the largest void then leaves exactly that strut.
 TEST(ParamsGtest, RandomVoidAreaSpreadKeepsTheThinnestStrut) {
@@ -164,7 +200,7 @@ TEST(ParamsGtest, JsonReadingIsStrict) {
   EXPECT_NE(e[0].message.find("\"regular\" or \"random\""), std::string::npos) << e[0].message;
   e = from_json(nlohmann::json::parse(R"({"pore_contact": "penalty"})"), p);
   ASSERT_TRUE(has_error(e, "pore_contact"));
-  EXPECT_NE(e[0].message.find("\"single_field\" or \"split_fields\""), std::string::npos)
+  EXPECT_NE(e[0].message.find("\"single_field\", \"split_fields\" or \"auto\""), std::string::npos)
       << e[0].message;
   e = from_json(nlohmann::json::parse(R"([1, 2])"), p);
   EXPECT_EQ(e.size(), 1u);

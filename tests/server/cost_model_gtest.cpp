@@ -57,6 +57,12 @@ TEST(CostModel, other_numerics_and_full_2d_cost_their_measured_factors) {
   p = example_a();
   p.pore_contact = PoreContact::split_fields;
   EXPECT_NEAR(cost::cpu_seconds(p) / base, cost::kSplitFieldsFactor, 1e-12);
+  p.pore_contact = PoreContact::automatic;  // costs what it resolves to
+  EXPECT_NEAR(cost::cpu_seconds(p) / base, cost::kSplitFieldsFactor, 1e-12);
+  p.cells_per_unit = 12;  // too coarse for two fields: one
+  const double coarse = cost::cpu_seconds(p);
+  p.pore_contact = PoreContact::single_field;
+  EXPECT_EQ(cost::cpu_seconds(p), coarse);
   p = example_a();
   p.geometry = Geometry::full2d;  // 17 unit cells across
   EXPECT_NEAR(cost::particles(p) / cost::particles(example_a()), 17.0, 1e-12);

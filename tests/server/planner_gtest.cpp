@@ -73,6 +73,32 @@ TEST(Planner, ExplicitNumericsOverrideThePreset) {
   EXPECT_EQ(plan_sweep(b).scenes[0].grid_cells_per_unit(), 20) << "the default preset";
 }
 
+// The default and reference presets ask for pore_contact auto; a job's scene names what it runs
+// with, so equal computations share one identity however they were asked for.
+TEST(Planner, ThePresetsPoreContactIsResolvedPerJob) {
+  using compaction::PoreContact;
+  json b = grid();
+  b["numerics"] = {{"preset", "default"}};
+  for (const compaction::SceneParams& s : plan_sweep(b).scenes) {
+    EXPECT_EQ(s.pore_contact, PoreContact::split_fields);
+  }
+  json split = b;
+  split["numerics"]["pore_contact"] = "split_fields";
+  EXPECT_EQ(job_identity(plan_sweep(b).scenes[0], "v1"),
+            job_identity(plan_sweep(split).scenes[0], "v1"));
+  b["numerics"]["cells_per_unit"] = 12;  // 2.7 cells across the strut: one field
+  EXPECT_EQ(plan_sweep(b).scenes[0].pore_contact, PoreContact::single_field);
+  split["numerics"]["cells_per_unit"] = 12;  // asked for explicitly: refused with its reason
+  EXPECT_EQ(error_of(split), std::make_pair(422, std::string("numerics.pore_contact")));
+  b["numerics"] = {{"preset", "default"}, {"structure", "random"}};  // 2.25 cells: one field
+  EXPECT_EQ(plan_sweep(b).scenes[0].pore_contact, PoreContact::single_field);
+  b["numerics"]["preset"] = "reference";  // 4.5 cells across the thinnest random strut
+  EXPECT_EQ(plan_sweep(b).scenes[0].pore_contact, PoreContact::split_fields);
+  b["numerics"]["preset"] = "fast";
+  b["numerics"].erase("structure");
+  EXPECT_EQ(plan_sweep(b).scenes[0].pore_contact, PoreContact::single_field);
+}
+
 TEST(Planner, APresetGivesTheSameCellsPerStrutAtEveryPhi) {
   json b = grid();
   b["numerics"] = {{"preset", "default"}};

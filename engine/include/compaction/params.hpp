@@ -41,8 +41,10 @@ enum class PlateContact {
 enum class PoreContact {
   single_field,  // one velocity field: faces interact once they share grid nodes, a cell or two
                  // before the solid meets
-  split_fields   // two fields where faces of opposite normals share a node, merged once the
+  split_fields,  // two fields where faces of opposite normals share a node, merged once the
                  // node is full (the gap closed); APIC with the MLS gradient only
+  automatic      // "auto": split_fields where the scene allows it (APIC with MLS, at least
+                 // kSplitFieldsMinStrutCells across the thinnest strut), else single_field
 };
 
 // Limits of validate() that other components serve or check against.
@@ -178,6 +180,11 @@ struct FieldError {
 // Every problem with the parameters (empty when they are valid). The limits are those of the
 // model's validity and of what a run can afford; the messages name the field and the value.
 std::vector<FieldError> validate(const SceneParams& p);
+
+// Grid cells across the thinnest strut of the scene (a random structure's thinnest one).
+double thinnest_strut_cells(const SceneParams& p);
+// The pore contact a scene runs with: single_field or split_fields (auto resolved).
+PoreContact resolved_pore_contact(const SceneParams& p);
 
 const char* to_string(Geometry g);
 const char* to_string(Transfer t);

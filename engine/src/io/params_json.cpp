@@ -94,7 +94,7 @@ const std::map<std::string, std::pair<Reader, const char*>>& readers() {
       {"gradient", {enumeration(&SceneParams::gradient), "\"mls\" or \"bspline\""}},
       {"contact", {enumeration(&SceneParams::contact), "\"bonded\" or \"unilateral\""}},
       {"pore_contact",
-       {enumeration(&SceneParams::pore_contact), "\"single_field\" or \"split_fields\""}},
+       {enumeration(&SceneParams::pore_contact), "\"single_field\", \"split_fields\" or \"auto\""}},
       {"perturbation", {real(&SceneParams::perturbation), "a number"}},
       {"seed",
        {[](const json& v, SceneParams& p) {
