@@ -1,6 +1,7 @@
 // The paper's non-reflecting band (class a: S = 4e-3, R = 1e-5, phi = 0.4, pseudo-1D), to
-// eps = 0.15, at 16 cells per unit cell (what must hold at any resolution) and at 40 (the
-// paper's band speed, which needs the pores to close completely behind the front).
+// eps = 0.15, at 16 cells per unit cell (what must hold at any resolution), at 40 (the
+// paper's band speed, which needs the pores to close completely behind the front) and at 20
+// with two velocity fields across closing pores (the default preset's contact).
 //
 // What must hold at any resolution, and is checked here:
 // - one front leaves the top plate and moves down steadily;
@@ -16,7 +17,8 @@
 // thick leave the pores partly open (phi_f < 1), so c_b / V is larger, by an excess that falls
 // with resolution (docs/engine.md, "Known limitation"): +23 % at 16 cells per unit cell (the
 // first test records it and checks the invariants), +3.4 % at 40 (the second test checks that
-// it stays within 5 %).
+// it stays within 5 %). Two velocity fields across closing pores bring it within 5 % at 20 (the
+// third test).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -62,6 +64,31 @@ double slope(const std::vector<double>& x, const std::vector<double>& y, double 
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+// The compacted zone at the run's snapshot: from one unit cell behind the front to one below the
+// plate; its solid fraction phi_f (particle areas J V0 over the zone's area) and the range of J.
+struct Zone {
+  std::size_t frame = 0;  // the snapshot's frame
+  double lo = 0, hi = 0;  // the zone's bounds [m]
+  double phi_f = 0, j_min = 2, j_max = 0;
+};
+
+Zone compacted_zone(const SceneParams& p, const RunResult& r, const Band& band) {
+  const Snapshot& s = r.snapshots.at(0);
+  const double L = p.unit_cell(), v0 = std::pow(r.dx / p.particles_per_cell, 2);
+  Zone z;
+  z.frame = static_cast<std::size_t>(std::lround(s.eps / p.d_eps)) - 1;
+  z.lo = band.front[z.frame] * p.h0 + L, z.hi = p.h0 * (1.0 - s.eps) - L;
+  double area = 0;
+  for (std::size_t k = 0; k < s.x.size(); ++k) {
+    if (s.y[k] < z.lo || s.y[k] >= z.hi) continue;
+    area += s.jacobian[k] * v0;
+    z.j_min = std::min<double>(z.j_min, s.jacobian[k]);
+    z.j_max = std::max<double>(z.j_max, s.jacobian[k]);
+  }
+  z.phi_f = area / ((z.hi - z.lo) * p.width());
+  return z;
+}
+
 SceneParams band_scene(int cells_per_unit) {
   SceneParams p;
   p.S = 4e-3, p.R = 1e-5, p.phi = 0.4;
@@ -88,21 +115,11 @@ TEST(CompactionBandGtest, NonReflectingBandConservesMassAndClosesPoresWithoutOve
   RecordProperty("band_speed_over_paper", std::to_string(cb / (1.0 / (1.0 - p.phi))));
   EXPECT_GE(cb, 0.97 * bound) << "slower than full densification allows";
 
-  // The compacted zone at the snapshot: from one unit cell behind the front to one below the
-  // plate. Its solid fraction phi_f predicts the band speed by mass conservation.
-  const Snapshot& s = r.snapshots.at(0);
-  const double L = p.unit_cell(), dx = r.dx, v0 = std::pow(dx / p.particles_per_cell, 2);
-  const std::size_t frame = static_cast<std::size_t>(std::lround(s.eps / p.d_eps)) - 1;
-  const double lo = band.front[frame] * p.h0 + L, hi = p.h0 * (1.0 - s.eps) - L;
+  // The compacted zone at the snapshot: its solid fraction phi_f predicts the band speed by
+  // mass conservation.
+  const double L = p.unit_cell();
+  const auto [frame, lo, hi, phi_f, j_min, j_max] = compacted_zone(p, r, band);
   ASSERT_GT(hi - lo, 2 * L);
-  double area = 0, j_min = 2, j_max = 0;
-  for (std::size_t k = 0; k < s.x.size(); ++k) {
-    if (s.y[k] < lo || s.y[k] >= hi) continue;
-    area += s.jacobian[k] * v0;
-    j_min = std::min<double>(j_min, s.jacobian[k]);
-    j_max = std::max<double>(j_max, s.jacobian[k]);
-  }
-  const double phi_f = area / ((hi - lo) * p.width());
 
   // Kinematics at the same frame: next to the plate the zone moves with it (-V); a unit cell
   // ahead of the front (two unit cells: the struts next to it already give way) the material is
@@ -158,6 +175,37 @@ TEST(CompactionBandGtest, NonReflectingBandRunsAtThePapersSpeedWhenStrutsAreReso
   const double paper = 1.0 / (1.0 - p.phi);
   RecordProperty("band_speed_ratio", std::to_string(cb));
   EXPECT_NEAR(cb / paper, 1.0, 0.05);
+}
+
+// Two velocity fields across closing pores (pore_contact = split_fields, what the default preset
+// runs) at the default preset's 20 cells per unit cell: the faces of a pore meet before they
+// interact, so the pores close behind the front and the band runs at the paper's speed. The
+// engine issue's target: within 5 % of 1 / (1 - phi) at the default preset (measured +2.7 % to
+// eps = 0.2, docs/accuracy/pore-contact.md), where one field gives +14 % (the 16-cell test above
+// and docs/engine.md). phi_f above 0.9 (measured 0.94: slits of a cell or less stay, the merge
+// at an eighth of a cell), J within 1 % of 1 as above: no overlap. About 0.3 of the 40-cell
+// test's cost.
+TEST(CompactionBandGtest, TwoFieldsRunTheBandAtThePapersSpeedAtTheDefaultResolution) {
+  SceneParams p = band_scene(20);
+  p.pore_contact = PoreContact::split_fields;
+  const RunResult r = run_scene(p);
+  ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+  const Band band = track_front(r);
+  int rises = 0;
+  for (std::size_t f = 1; f < band.front.size(); ++f) {
+    rises += band.front[f] > band.front[f - 1] + 0.02;
+  }
+  EXPECT_EQ(rises, 0) << "the front must not jump back up (no reflection before eps = 0.15)";
+  const double cb = -slope(band.eps, band.front, 0.03);
+  const double paper = 1.0 / (1.0 - p.phi);
+  RecordProperty("band_speed_ratio", std::to_string(cb));
+  EXPECT_NEAR(cb / paper, 1.0, 0.05);
+  const Zone z = compacted_zone(p, r, band);
+  RecordProperty("phi_behind_front", std::to_string(z.phi_f));
+  EXPECT_GT(z.phi_f, 0.9);
+  EXPECT_LE(z.phi_f, 1.01);
+  EXPECT_GT(z.j_min, 0.99);
+  EXPECT_LT(z.j_max, 1.01);
 }
 
 }  // namespace
