@@ -45,9 +45,14 @@ def fig3_name(R, cells, eps_end):
     return f"fig3_R{R:g}_{cells}_{eps_end:g}"
 
 
-def scene(name, S, R, cells, eps_end, geometry="pseudo1d"):
-    return name, {"S": S, "R": R, "phi": PHI, "cells_per_unit": cells, "eps_end": eps_end,
-                  "geometry": geometry, "snapshot_eps": min(0.2, eps_end)}
+def scene(args, name, S, R, cells, eps_end, geometry="pseudo1d"):
+    """A run's folder name and flags; runs with another pore contact than the engine's default
+    (single_field) are named after it, so that both stay cached side by side."""
+    flags = {"S": S, "R": R, "phi": PHI, "cells_per_unit": cells, "eps_end": eps_end,
+             "geometry": geometry, "snapshot_eps": min(0.2, eps_end)}
+    if args.pore_contact != "single_field":
+        name, flags["pore_contact"] = f"{name}_{args.pore_contact}", args.pore_contact
+    return name, flags
 
 
 def full2d_cells(args):
@@ -81,28 +86,28 @@ def plan(args, sections):
     add = lambda name_flags: out.__setitem__(*name_flags)
     if "examples" in sections:
         for k, (S, R, e) in EXAMPLES.items():
-            add(scene(f"{k}_p1d_{args.cells}_{e * args.eps_scale:g}", S, R, args.cells, e * args.eps_scale))
+            add(scene(args, f"{k}_p1d_{args.cells}_{e * args.eps_scale:g}", S, R, args.cells, e * args.eps_scale))
     if "resolution" in sections:
         for c in [int(x) for x in args.resolutions.split(",")]:
             for k, (S, R, e) in EXAMPLES.items():
-                add(scene(f"{k}_p1d_{c}_{e * args.eps_scale:g}", S, R, c, e * args.eps_scale))
+                add(scene(args, f"{k}_p1d_{c}_{e * args.eps_scale:g}", S, R, c, e * args.eps_scale))
     if "fig3" in sections:
         for c3 in fig3_cells(args):
             for R in FIG3_R:
-                add(scene(fig3_name(R, c3, FIG3_EPS * args.eps_scale), FIG3_S, R, c3, FIG3_EPS * args.eps_scale))
+                add(scene(args, fig3_name(R, c3, FIG3_EPS * args.eps_scale), FIG3_S, R, c3, FIG3_EPS * args.eps_scale))
     if "full2d" in sections:
         for c2 in full2d_cells(args):
             for k in ("a", "b"):
                 S, R, _ = EXAMPLES[k]
                 e = FULL2D_EPS * args.eps_scale
-                add(scene(f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d"))
-                add(scene(f"{k}_p1d_{c2}_{e:g}", S, R, c2, e))
+                add(scene(args, f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d"))
+                add(scene(args, f"{k}_p1d_{c2}_{e:g}", S, R, c2, e))
     return out
 
 
 def run(args, name, S, R, cells, eps_end, geometry="pseudo1d"):
     """The results of a run that plan() listed (run_all has computed it)."""
-    out = runs.run_one(args.work, *scene(name, S, R, cells, eps_end, geometry), run=args.run)
+    out = runs.run_one(args.work, *scene(args, name, S, R, cells, eps_end, geometry), run=args.run)
     cls = runs.classify(out, args.classify)
     s = runs.summary(out)
     return {"name": name, "dir": out, "S": S, "R": R, "cells": cells, "eps_end": eps_end,
@@ -170,6 +175,11 @@ def main():
                     help="comma list of resolutions of the full-2D comparison (default: --cells)")
     ap.add_argument("--eps-scale", type=float, default=1.0)
     ap.add_argument("--sections", default="examples,fig3,full2d,resolution")
+    ap.add_argument("--pore-contact", default="single_field",
+                    choices=("single_field", "split_fields", "auto"),
+                    help="pore_contact of every run (docs/engine.md, Pore contact) [single_field]")
+    ap.add_argument("--no-notes", action="store_true",
+                    help="leave out notes.md (its findings are those of the one-field runs)")
     ap.add_argument("--work", default="/tmp/compaction-validation")
     ap.add_argument("--jobs", type=int, default=1, help="runs at a time (each on one thread)")
     ap.add_argument("--run", default=os.path.join(ROOT, "build", "bin", "compaction-run"))
@@ -184,8 +194,9 @@ def main():
           "",
           "Written by `bench/validation/validate.py` "
           f"(`{' '.join(os.path.basename(a) if i == 0 else a for i, a in enumerate(sys.argv))}`). "
-          "phi = 0.4. Labels from `compaction-classify` (docs/classifier.md): it reads the run's "
-          "space-time map, plate stresses and strut diagnostics, never S or R.", ""]
+          f"phi = 0.4, pore_contact = {args.pore_contact}. Labels from `compaction-classify` "
+          "(docs/classifier.md): it reads the run's space-time map, plate stresses and strut "
+          "diagnostics, never S or R.", ""]
 
     if "examples" in sections:
         md += [f"## The six examples (pseudo-1D, {args.cells} cells per unit cell)", "", HEADER]
@@ -298,7 +309,7 @@ def main():
             md += [""] + [f"- {g}" for g in gaps] + [""]
 
     notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
-    if os.path.exists(notes):  # what was found, written by hand for the measured resolution
+    if os.path.exists(notes) and not args.no_notes:  # what was found, written by hand for the measured resolution
         md += [open(notes).read(), ""]
     md += [f"Total wall time of this report's runs (new and cached): {time.time() - t0:.0f} s of this invocation.", ""]
     with open(args.report, "w") as f:
