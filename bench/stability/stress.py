@@ -179,7 +179,8 @@ def main():
 
     total = sum(len(r) for _, r, _ in rows_by_group)
     lines = ["# Numerical stability stress test", "",
-             f"Made by `bench/stability/stress.py` ({total} runs, {failures} failures). Every run "
+             f"Made by `bench/stability/stress.py --pore-contact {args.pore_contact}` ({total} runs, "
+             f"{failures} failures). Every run "
              "must end `ok` or `unstable` with a reason (or be rejected as invalid input with a "
              f"clear error), within {args.timeout:g} s, with no NaN or Inf in frames.csv, the .npy "
              "arrays or summary.json. Pseudo-1D, bonded plates, APIC and MLS unless stated; "
