@@ -35,7 +35,7 @@ const SceneFlag kSceneFlags[] = {
     {"--S", "S", Kind::real, &limits::S, "Mach number V / sqrt(E/rho)"},
     {"--R", "R", Kind::real, &limits::R, "relative strength q_y / E"},
     {"--phi", "phi", Kind::real, &limits::phi, "solid area fraction"},
-    {"--geometry", "geometry", Kind::text, nullptr, "pseudo1d | full2d"},
+    {"--geometry", "geometry", Kind::text, nullptr, "pseudo1d | full2d | pseudo1d_3d"},
     {"--n-cols", "n_cols", Kind::integer, &limits::n_cols, "unit cells across (full2d)"},
     {"--n-rows", "n_rows", Kind::integer, &limits::n_rows, "unit cells along the compression axis"},
     {"--structure", "structure", Kind::text, nullptr,

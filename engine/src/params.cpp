@@ -18,8 +18,12 @@ double SceneParams::bar_wave_speed() const { return std::sqrt(youngs_modulus() /
 double SceneParams::p_wave_speed() const {
   return std::sqrt((lame_lambda() + 2.0 * lame_mu()) / rho);
 }
-double SceneParams::hole_side() const { return unit_cell() * std::sqrt(1.0 - phi); }
+double SceneParams::hole_side() const {
+  return unit_cell() * (geometry == Geometry::pseudo1d_3d ? std::cbrt(1.0 - phi)
+                                                          : std::sqrt(1.0 - phi));
+}
 double strut_fraction(double phi) { return 1.0 - std::sqrt(1.0 - phi); }
+double strut_fraction_3d(double phi) { return 1.0 - std::cbrt(1.0 - phi); }
 
 namespace random_structure {
 double thinnest_strut_fraction(double phi) { return kMinStrut * strut_fraction(phi); }
@@ -84,10 +88,28 @@ double thinnest_strut_cells(const SceneParams& p) {
   return thinnest_strut(p) / (p.unit_cell() / p.grid_cells_per_unit());
 }
 
+namespace {
+// What the 3D column (pseudo1d_3d) does not run: the 2D engine's variants and outputs that
+// have no 3D counterpart yet.
+void validate_3d(const SceneParams& p, std::vector<FieldError>& e) {
+  const std::string what = "pseudo1d_3d runs ";
+  if (p.transfer != Transfer::apic) e.push_back({"transfer", what + "apic only"});
+  if (p.gradient != Gradient::mls) e.push_back({"gradient", what + "mls only"});
+  if (p.pore_contact == PoreContact::split_fields) {
+    e.push_back({"pore_contact", what + "one velocity field (single_field or auto)"});
+  }
+  if (p.structure != Structure::regular) e.push_back({"structure", what + "regular only"});
+  if (p.perturbation != 0.0) e.push_back({"perturbation", what + "an unperturbed lattice (0)"});
+  if (p.threads != 1) e.push_back({"threads", what + "on one thread (1)"});
+  if (p.movie_d_eps != 0.0) e.push_back({"movie_d_eps", what + "without a movie (0)"});
+  if (!p.snapshot_eps.empty()) e.push_back({"snapshot_eps", what + "without snapshots ([])"});
+}
+}  // namespace
+
 PoreContact resolved_pore_contact(const SceneParams& p) {
   if (p.pore_contact != PoreContact::automatic) return p.pore_contact;
-  const bool allowed = p.transfer == Transfer::apic && p.gradient == Gradient::mls &&
-                       p.phi != 1.0 && thinnest_strut_cells(p) >= kSplitFieldsMinStrutCells;
+  const bool allowed = p.geometry != Geometry::pseudo1d_3d && p.transfer == Transfer::apic &&
+                       p.gradient == Gradient::mls && p.phi != 1.0 && thinnest_strut_cells(p) >= kSplitFieldsMinStrutCells;
   return allowed ? PoreContact::split_fields : PoreContact::single_field;
 }
 
@@ -133,6 +155,7 @@ std::vector<FieldError> validate(const SceneParams& p) {
                                       "), got " + num(p.movie_d_eps)});
     }
   }
+  if (p.geometry == Geometry::pseudo1d_3d) validate_3d(p, e);
   if (e.empty() && p.eps_final() / p.d_eps > 1e5) {
     e.push_back({"d_eps", "too small: " + num(p.eps_final() / p.d_eps) +
                               " frames up to eps_end, at most 1e5"});
@@ -172,8 +195,10 @@ std::vector<FieldError> validate(const SceneParams& p) {
                                          num(strut / dx) + " (raise " + field + ")"});
       }
     }
-    const double nodes = static_cast<double>(p.cols() * cells_per_unit + 5) *
-                         (p.n_rows * cells_per_unit + 5);
+    const double across = p.geometry == Geometry::pseudo1d_3d
+                              ? static_cast<double>(cells_per_unit) * cells_per_unit
+                              : p.cols() * cells_per_unit + 5;
+    const double nodes = across * (p.n_rows * cells_per_unit + 5);
     if (nodes > 2e7) {
       e.push_back({field, "grid of " + num(nodes) + " nodes exceeds the limit of 2e7"});
     }
@@ -181,7 +206,14 @@ std::vector<FieldError> validate(const SceneParams& p) {
   return e;
 }
 
-const char* to_string(Geometry g) { return g == Geometry::pseudo1d ? "pseudo1d" : "full2d"; }
+const char* to_string(Geometry g) {
+  switch (g) {
+    case Geometry::pseudo1d: return "pseudo1d";
+    case Geometry::full2d: return "full2d";
+    case Geometry::pseudo1d_3d: return "pseudo1d_3d";
+  }
+  return "?";
+}
 const char* to_string(Transfer t) { return t == Transfer::apic ? "apic" : "pic_flip"; }
 const char* to_string(PlateContact c) {
   return c == PlateContact::bonded ? "bonded" : "unilateral";
@@ -205,6 +237,7 @@ bool parse(const std::string& s, Gradient& out) {
 bool parse(const std::string& s, Geometry& out) {
   if (s == "pseudo1d") return out = Geometry::pseudo1d, true;
   if (s == "full2d") return out = Geometry::full2d, true;
+  if (s == "pseudo1d_3d") return out = Geometry::pseudo1d_3d, true;
   return false;
 }
 bool parse(const std::string& s, Transfer& out) {

@@ -7,19 +7,10 @@
 
 namespace compaction {
 
-double hole_fraction_3d(double phi) { return phi >= 1.0 ? 0.0 : std::cbrt(1.0 - phi); }
-
-int grid_cells_per_unit_3d(const SceneParams& p) {
-  if (p.cells_per_unit > 0) return p.cells_per_unit;
-  const double n = p.cells_per_strut / (1.0 - hole_fraction_3d(p.phi));
-  if (!(n >= 1.0 && n <= 1e6)) return 0;
-  return static_cast<int>(std::ceil(n - 1e-9));  // as SceneParams::grid_cells_per_unit
-}
-
 namespace {
 
 void build_grid(const SceneParams& p, Grid3D& g) {
-  const int cells = grid_cells_per_unit_3d(p);
+  const int cells = p.grid_cells_per_unit();
   g.dx = p.unit_cell() / cells;
   g.inv_dx = 1.0 / g.dx;
   g.cells_across = cells;
@@ -52,9 +43,8 @@ Setup3D make_setup(const SceneParams& p, const Grid3D& g, double vol0) {
 Particles3D place_particles(const SceneParams& p, const Grid3D& g) {
   const int per_unit = g.cells_across * p.particles_per_cell;  // particles per unit cell side
   const double spacing = g.dx / p.particles_per_cell;
-  const int side = std::clamp(
-      static_cast<int>(std::lround(hole_fraction_3d(p.phi) * p.unit_cell() / spacing)), 0,
-      per_unit - 1);
+  const int side =
+      std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0, per_unit - 1);
   const int first = (per_unit - side) / 2, last = first + side;  // hole: [first, last)
   auto in_hole = [&](int l) { return l >= first && l < last; };
 

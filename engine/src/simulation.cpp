@@ -11,6 +11,7 @@
 #include "checkpoint.hpp"
 #include "diagnostics.hpp"
 #include "scene_builder.hpp"
+#include "simulation_3d.hpp"
 #include "stability.hpp"
 #include "stages.hpp"
 #include "step.hpp"
@@ -60,6 +61,7 @@ RunResult run_scene(const SceneParams& p, const RunControl& control) {
   if (const auto errors = validate(p); !errors.empty()) {
     throw std::invalid_argument(errors[0].field + ": " + errors[0].message);
   }
+  if (p.geometry == Geometry::pseudo1d_3d) return run_column_3d(p, control);  // simulation_3d.cpp
   const auto t0 = std::chrono::steady_clock::now();
   State s = build_scene(p);
   ThreadPool pool(p.threads);

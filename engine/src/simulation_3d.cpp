@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "diagnostics_3d.hpp"
 #include "scene_builder_3d.hpp"
@@ -32,7 +33,10 @@ std::string check_step_3d(const State3D& s) {
   return {};
 }
 
-RunResult run_column_3d(const SceneParams& p) {
+RunResult run_column_3d(const SceneParams& p, const RunControl& control) {
+  if (!control.checkpoint_file.empty() || !control.resume_file.empty()) {
+    throw std::invalid_argument("geometry: pseudo1d_3d has no checkpoints (yet)");
+  }
   const auto t0 = std::chrono::steady_clock::now();
   State3D s = build_scene_3d(p);
   FrameRecorder3D recorder(s);
@@ -53,6 +57,10 @@ RunResult run_column_3d(const SceneParams& p) {
   double eps_frame_begin = 0.0;
   const auto t_loop = std::chrono::steady_clock::now();
   while (true) {
+    if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
+      r.status = RunStatus::cancelled, r.reason = "cancelled on request";
+      break;
+    }
     const double eps_frame_end = std::min(eps_end, (frame + 1) * p.d_eps);
     const double t_frame_end = std::min(t_end, eps_frame_end * h0 / V);
     double dt = stable_dt_3d(s, p.cfl);
@@ -72,6 +80,10 @@ RunResult run_column_3d(const SceneParams& p) {
     if (!closes_frame) continue;
     recorder.record(s, eps_frame_begin, eps_frame_end, r);
     r.eps_reached = eps_frame_end;
+    if (control.on_progress) {
+      control.on_progress({eps_frame_end, eps_end, s.clock.step,
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
+    }
     eps_frame_begin = eps_frame_end;
     ++frame;
     if (eps_frame_end >= eps_end) break;

@@ -6,6 +6,7 @@
 
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
+#include "compaction/simulation.hpp"  // RunControl
 #include "state_3d.hpp"
 
 namespace compaction {
@@ -15,6 +16,9 @@ namespace compaction {
 // top or bottom edge (its stencil would leave the grid). As stability.cpp's check_step.
 std::string check_step_3d(const State3D& s);
 
-RunResult run_column_3d(const SceneParams& p);
+// Runs the column of p (geometry pseudo1d_3d, valid). Of `control` it serves on_progress and
+// cancel; checkpoints (checkpoint_file, resume_file) are not implemented for the 3D state and
+// throw std::invalid_argument; a movie is never recorded (validate() asks movie_d_eps = 0).
+RunResult run_column_3d(const SceneParams& p, const RunControl& control = {});
 
 }  // namespace compaction

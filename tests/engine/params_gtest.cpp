@@ -187,6 +187,53 @@ TEST(ParamsGtest, JsonRoundTripKeepsEveryField) {
   EXPECT_EQ(to_json(q), to_json(split));
 }
 
+// pseudo1d_3d: phi is a volume fraction, so the cubic hole's side is L (1 - phi)^(1/3) and the
+// strut L (1 - (1 - phi)^(1/3)); the grid and the coarseness check follow them; the name
+// round-trips through to_string / parse and JSON.
+TEST(ParamsGtest, Pseudo1d3dHasCubicHolesAndRoundTrips) {
+  SceneParams p;
+  p.geometry = Geometry::pseudo1d_3d, p.phi = 0.4, p.movie_d_eps = 0.0, p.snapshot_eps = {};
+  EXPECT_NEAR(p.hole_side(), (1.0 / 34) * std::cbrt(0.6), 1e-15);
+  EXPECT_NEAR(p.strut_fraction(), 1.0 - std::cbrt(0.6), 1e-15);
+  EXPECT_EQ(p.cols(), 1);
+  EXPECT_DOUBLE_EQ(p.width(), p.unit_cell());
+  // 4.5 cells across a strut of 0.1566 L: ceil(28.7) = 29 cells per unit cell
+  EXPECT_EQ(p.grid_cells_per_unit(), 29);
+  EXPECT_TRUE(validate(p).empty());
+  EXPECT_EQ(resolved_pore_contact(p), PoreContact::single_field);  // auto: one field in 3D
+  Geometry g;
+  ASSERT_TRUE(parse(to_string(p.geometry), g));
+  EXPECT_EQ(g, Geometry::pseudo1d_3d);
+  SceneParams q;
+  ASSERT_TRUE(from_json(to_json(p), q).empty());
+  EXPECT_EQ(to_json(q), to_json(p));
+  // strut 0.157 L = 0.47 cells at 3 cells per unit cell: too coarse (in 2D, 0.23 L = 0.68)
+  p.cells_per_unit = 3;
+  EXPECT_TRUE(has_error(validate(p), "cells_per_unit"));
+  p.phi = 0.8, p.cells_per_unit = 2;  // hole 0.585 L = 1.17 cells, strut 0.83 cells
+  EXPECT_TRUE(has_error(validate(p), "cells_per_unit"));
+  p.cells_per_unit = 3;  // hole 1.75, strut 1.25 cells: resolved
+  EXPECT_TRUE(validate(p).empty());
+}
+
+// What the 3D column does not run is refused by name, not ignored.
+TEST(ParamsGtest, Pseudo1d3dRefusesWhatItDoesNotRun) {
+  SceneParams p;
+  p.geometry = Geometry::pseudo1d_3d;  // with the default movie and snapshot
+  auto e = validate(p);
+  EXPECT_TRUE(has_error(e, "movie_d_eps"));
+  EXPECT_TRUE(has_error(e, "snapshot_eps"));
+  p.movie_d_eps = 0.0, p.snapshot_eps = {};
+  p.transfer = Transfer::pic_flip, p.gradient = Gradient::bspline, p.threads = 2;
+  p.pore_contact = PoreContact::split_fields, p.structure = Structure::random;
+  p.perturbation = 0.1;
+  e = validate(p);
+  for (const char* f :
+       {"transfer", "gradient", "threads", "pore_contact", "structure", "perturbation"}) {
+    EXPECT_TRUE(has_error(e, f)) << f;
+  }
+}
+
 TEST(ParamsGtest, JsonReadingIsStrict) {
   SceneParams p;
   auto e = from_json(nlohmann::json::parse(R"({"S": "fast", "phii": 0.4, "n_rows": 3.5})"), p);

@@ -17,6 +17,7 @@ namespace {
 // either plate, so no plate node is reached; with V = 0 the top plate stays at h0.
 State3D free_box() {
   SceneParams p;
+  p.geometry = Geometry::pseudo1d_3d;
   p.phi = 0.5;
   p.n_rows = 3;
   p.cells_per_unit = 6;

@@ -13,6 +13,9 @@ namespace compaction {
 enum class Geometry {
   pseudo1d,  // one unit cell wide, periodic in x by index wrapping (the workhorse of sweeps)
   full2d,    // n_cols x n_rows cells between frictionless side walls
+  pseudo1d_3d,  // 3D: one unit cell across in x and z (periodic in both), n_rows tall, cubic
+                // holes of side L (1 - phi)^(1/3); phi is a volume fraction. APIC with MLS, a
+                // regular structure, one thread, no movie or snapshots (validate() says so)
 };
 
 enum class Transfer {
@@ -93,6 +96,8 @@ inline constexpr Range movie_d_eps{0.001, 0.5};  // when set (> 0); 0: no movie;
 // The thinnest strut between two square holes of a regular structure of solid fraction phi, as
 // a fraction of the unit cell: 1 - sqrt(1 - phi) (1 for the solid column, phi = 1).
 double strut_fraction(double phi);
+// The same between two cubic holes of a 3D structure: 1 - (1 - phi)^(1/3).
+double strut_fraction_3d(double phi);
 
 // The distribution of the voids of a random structure, the rule build_scene() follows and
 // validate() checks. Each unit cell keeps one square void, whose area is drawn uniformly in
@@ -163,12 +168,15 @@ struct SceneParams {
   double p_wave_speed() const;       // sqrt((lambda + 2 mu) / rho)             [m/s]
   double plate_speed() const { return S * bar_wave_speed(); }             // V  [m/s]
   double unit_cell() const { return h0 / n_rows; }                        // L  [m]
-  double hole_side() const;          // L sqrt(1 - phi)                        [m]
-  double strut_fraction() const { return compaction::strut_fraction(phi); }
+  double hole_side() const;          // L sqrt(1 - phi); pseudo1d_3d: L (1 - phi)^(1/3) [m]
+  double strut_fraction() const {
+    return geometry == Geometry::pseudo1d_3d ? strut_fraction_3d(phi)
+                                             : compaction::strut_fraction(phi);
+  }
   int grid_cells_per_unit() const;   // cells_per_unit, or derived from cells_per_strut [-]
   double grid_cells_per_strut() const { return grid_cells_per_unit() * strut_fraction(); }
-  int cols() const { return geometry == Geometry::pseudo1d ? 1 : n_cols; }
-  double width() const { return cols() * unit_cell(); }                   //    [m]
+  int cols() const { return geometry == Geometry::full2d ? n_cols : 1; }
+  double width() const { return cols() * unit_cell(); }  // (pseudo1d_3d: also the depth) [m]
 };
 
 // One problem with one field of the parameters, e.g. {"phi", "must be in [0.2, 0.8], got 0.9"}.

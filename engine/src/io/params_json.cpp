@@ -81,7 +81,7 @@ const std::map<std::string, std::pair<Reader, const char*>>& readers() {
       {"nu", {real(&SceneParams::nu), "a number"}},
       {"q_y", {real(&SceneParams::q_y), "a number"}},
       {"h0", {real(&SceneParams::h0), "a number"}},
-      {"geometry", {enumeration(&SceneParams::geometry), "\"pseudo1d\" or \"full2d\""}},
+      {"geometry", {enumeration(&SceneParams::geometry), "\"pseudo1d\", \"full2d\" or \"pseudo1d_3d\""}},
       {"n_cols", {integer(&SceneParams::n_cols), "an integer"}},
       {"n_rows", {integer(&SceneParams::n_rows), "an integer"}},
       {"structure", {enumeration(&SceneParams::structure), "\"regular\" or \"random\""}},
