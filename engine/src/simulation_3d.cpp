@@ -33,6 +33,22 @@ std::string check_step_3d(const State3D& s) {
   return {};
 }
 
+std::string check_frame_3d(const State3D& s, const Frame& f) {
+  if (!std::isfinite(f.sigma_top) || !std::isfinite(f.sigma_bottom) ||
+      !std::isfinite(f.kinetic_energy)) {
+    return "plate stress or kinetic energy not finite";
+  }
+  const Particles3D& P = s.particles;
+  const double floor = 0.01 * 0.5 * P.mass * P.n * s.setup.V * s.setup.V;
+  if (f.kinetic_energy > 2.0 * f.plate_work + floor) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "kinetic energy %.4g J exceeds twice the work of the plates %.4g J",
+                  f.kinetic_energy, f.plate_work);
+    return buf;
+  }
+  return {};
+}
+
 RunResult run_column_3d(const SceneParams& p, const RunControl& control) {
   if (!control.checkpoint_file.empty() || !control.resume_file.empty()) {
     throw std::invalid_argument("geometry: pseudo1d_3d has no checkpoints (yet)");
@@ -80,6 +96,20 @@ RunResult run_column_3d(const SceneParams& p, const RunControl& control) {
     if (!closes_frame) continue;
     recorder.record(s, eps_frame_begin, eps_frame_end, r);
     r.eps_reached = eps_frame_end;
+    if (std::string why = check_frame_3d(s, r.frames.back()); !why.empty()) {
+      const Frame& f = r.frames.back();
+      if (!std::isfinite(f.sigma_top + f.sigma_bottom + f.kinetic_energy)) {
+        // the last finite frame is the last one kept (as 2D's drop_last_frame)
+        r.frames.pop_back();
+        r.spacetime.values.resize(r.spacetime.values.size() - r.spacetime.n_rows);
+        --r.spacetime.n_frames;
+        r.velocity.values.resize(r.velocity.values.size() - r.velocity.n_rows);
+        --r.velocity.n_frames;
+        r.eps_reached = eps_frame_begin;
+      }
+      r.status = RunStatus::unstable, r.reason = why, r.failed_step = s.clock.step;
+      break;
+    }
     if (control.on_progress) {
       control.on_progress({eps_frame_end, eps_end, s.clock.step,
                            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});

@@ -16,6 +16,11 @@ namespace compaction {
 // top or bottom edge (its stencil would leave the grid). As stability.cpp's check_step.
 std::string check_step_3d(const State3D& s);
 
+// Why the frame just recorded makes the run unusable (empty when it does not), as
+// stability.cpp's check_frame: a non-finite plate stress or kinetic energy, or kinetic energy
+// above twice the plates' work plus 1 % of that of the whole specimen moving at V.
+std::string check_frame_3d(const State3D& s, const Frame& f);
+
 // Runs the column of p (geometry pseudo1d_3d, valid). Of `control` it serves on_progress and
 // cancel; checkpoints (checkpoint_file, resume_file) are not implemented for the 3D state and
 // throw std::invalid_argument; a movie is never recorded (validate() asks movie_d_eps = 0).

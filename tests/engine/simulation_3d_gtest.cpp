@@ -1,0 +1,78 @@
+// The 3D column's run loop: its stability checks (step and frame), cancellation, progress, and
+// the refusal of checkpoints it cannot write.
+#include "simulation_3d.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+
+#include "scene_builder_3d.hpp"
+
+namespace compaction {
+namespace {
+
+SceneParams small_column() {
+  SceneParams p;
+  p.geometry = Geometry::pseudo1d_3d;
+  p.S = 0.05, p.R = 1e-3, p.phi = 0.5, p.n_rows = 4, p.cells_per_unit = 6, p.eps_end = 0.02;
+  p.d_eps = 0.002, p.snapshot_eps = {}, p.movie_d_eps = 0.0;
+  return p;
+}
+
+TEST(Simulation3dGtest, StepCheckNamesInversionSpeedAndLeavingTheGrid) {
+  State3D s = build_scene_3d(small_column());
+  EXPECT_EQ(check_step_3d(s), "");
+  s.measure.bad_jacobian = true;
+  EXPECT_NE(check_step_3d(s).find("inverted"), std::string::npos);
+  s.measure.bad_jacobian = false;
+  s.measure.max_v2 = std::nan("");
+  EXPECT_NE(check_step_3d(s).find("P-wave"), std::string::npos);
+  s.measure.max_v2 = 0.0;
+  s.measure.y_min = -1.5 * s.grid.dx;  // beyond 1.4 cells below the bottom plate
+  EXPECT_NE(check_step_3d(s).find("vertically"), std::string::npos);
+}
+
+TEST(Simulation3dGtest, FrameCheckNamesNonFiniteStressAndEnergyFromNowhere) {
+  const State3D s = build_scene_3d(small_column());
+  Frame f;
+  EXPECT_EQ(check_frame_3d(s, f), "");
+  f.sigma_top = std::nan("");
+  EXPECT_NE(check_frame_3d(s, f).find("not finite"), std::string::npos);
+  f.sigma_top = 0.0;
+  const Particles3D& P = s.particles;
+  f.kinetic_energy = 0.5 * P.mass * P.n * s.setup.V * s.setup.V;  // all of it moving at V
+  f.plate_work = 0.1 * f.kinetic_energy;                          // with a tenth of the work
+  EXPECT_NE(check_frame_3d(s, f).find("exceeds"), std::string::npos);
+  f.plate_work = f.kinetic_energy;
+  EXPECT_EQ(check_frame_3d(s, f), "");
+}
+
+TEST(Simulation3dGtest, ReportsProgressEveryFrameAndStopsWhenCancelled) {
+  const SceneParams p = small_column();
+  int frames = 0;
+  RunControl control;
+  control.on_progress = [&](const Progress& g) {
+    ++frames;
+    EXPECT_NEAR(g.eps, frames * p.d_eps, 1e-15);
+  };
+  const RunResult r = run_column_3d(p, control);
+  ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
+  EXPECT_EQ(frames, 10);
+  std::atomic<bool> cancel{true};
+  RunControl stop;
+  stop.cancel = &cancel;
+  const RunResult c = run_column_3d(p, stop);
+  EXPECT_EQ(c.status, RunStatus::cancelled);
+  EXPECT_TRUE(c.frames.empty());
+}
+
+TEST(Simulation3dGtest, CheckpointsAreRefusedNotIgnored) {
+  RunControl control;
+  control.checkpoint_file = "/nonexistent/checkpoint.bin";
+  EXPECT_THROW(run_column_3d(small_column(), control), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace compaction
