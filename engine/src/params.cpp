@@ -109,7 +109,8 @@ void validate_3d(const SceneParams& p, std::vector<FieldError>& e) {
 PoreContact resolved_pore_contact(const SceneParams& p) {
   if (p.pore_contact != PoreContact::automatic) return p.pore_contact;
   const bool allowed = p.geometry != Geometry::pseudo1d_3d && p.transfer == Transfer::apic &&
-                       p.gradient == Gradient::mls && p.phi != 1.0 && thinnest_strut_cells(p) >= kSplitFieldsMinStrutCells;
+                       p.gradient == Gradient::mls && p.phi != 1.0 &&
+                       thinnest_strut_cells(p) >= kSplitFieldsMinStrutCells;
   return allowed ? PoreContact::split_fields : PoreContact::single_field;
 }
 
