@@ -11,19 +11,9 @@
 #include <algorithm>
 
 #include "stages.hpp"
+#include "step_helpers.hpp"
 
 namespace compaction {
-
-namespace {
-
-// The velocity a plate with normal velocity `plate` leaves a node with normal velocity `v`,
-// for a plate that pushes in direction `push` (+1 pushes towards +y or +x, -1 towards -).
-inline double constrain(double v, double plate, double push, PlateContact contact) {
-  if (contact == PlateContact::bonded) return plate;
-  return push > 0 ? std::max(v, plate) : std::min(v, plate);
-}
-
-}  // namespace
 
 void grid_update(State& s) {
   Grid& g = s.grid;

@@ -7,17 +7,9 @@
 #include <algorithm>
 
 #include "stages_3d.hpp"
+#include "step_helpers.hpp"
 
 namespace compaction {
-
-namespace {
-
-inline double constrain(double v, double plate, double push, PlateContact contact) {
-  if (contact == PlateContact::bonded) return plate;
-  return push > 0 ? std::max(v, plate) : std::min(v, plate);
-}
-
-}  // namespace
 
 void grid_update_3d(State3D& s) {
   Grid3D& g = s.grid;
