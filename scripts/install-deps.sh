@@ -8,7 +8,7 @@ packages=(
   cmake ninja-build g++ git pkg-config
   libsqlite3-dev sqlite3 nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libcli11-dev
-  libeigen3-dev  # header-only, for the tests' independent oracles (not linked by the engine)
+  libeigen3-dev  # header-only: the 3D column's linear algebra, and the tests' independent oracles
   python3 curl
   # the Python client's venv (docs/python.md): venv with pip and setuptools, and the wheel of
   # `wheel` that an offline venv builds the package with
