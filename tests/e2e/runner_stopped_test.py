@@ -11,7 +11,7 @@ env = Env(bin_dir_from_args(), "runner-stopped")
 env.start_server("--lease-seconds", "300")  # a long lease: only the release can requeue in time
 w = env.start_worker("w")
 sweep = env.submit({"name": "stopped", "points": [{"S": 0.003, "R": 1e-3, "phi": 0.4}],
-                    "numerics": {"cells_per_unit": 8, "eps_end": 0.05}})
+                    "numerics": {"cells_per_unit": 8, "eps_end": 0.2}})  # ~6 s optimised
 job_id = env.get("/api/v1/jobs?sweep=%d" % sweep["id"])["jobs"][0]["id"]
 env.wait_for(lambda: env.get("/api/v1/jobs/%d" % job_id)["state"] == "running", 60, "the job to run")
 
@@ -34,6 +34,11 @@ def runner_pids():
 
 runners = env.wait_for(runner_pids, 30, "the runner process")
 check(len(runners) == 1, "one runner: %s" % runners)
+# The signal goes to a runner that is computing (its first frame reported): one signalled while
+# it starts, before its handler is installed, dies without a checkpoint (the worker then gives
+# the job back and the next lease starts afresh, which is not what this test is about).
+env.wait_for(lambda: (env.get("/api/v1/jobs/%d" % job_id).get("progress_eps") or 0) > 0, 60,
+             "the runner's first progress")
 os.kill(runners[0], signal.SIGTERM)
 
 
