@@ -34,16 +34,7 @@ void grid_update(State& s) {
         g.arrays.mx[k] *= inv_m;
         g.arrays.my[k] *= inv_m;
       }
-      if (at_bottom) {
-        const double c = constrain(vy, 0.0, +1, su.contact);
-        bottom_impulse += n.m * (c - vy);
-        vy = c;
-      }
-      if (at_top) {
-        const double c = constrain(vy, -su.V, -1, su.contact);
-        top_impulse += n.m * (c - vy);
-        vy = c;
-      }
+      vy = apply_plates(vy, n.m, at_bottom, at_top, su.V, su.contact, bottom_impulse, top_impulse);
       if (su.side_walls) {
         const double x = (i - g.gx) * g.dx;
         if (x <= 0.0) vx = constrain(vx, 0.0, +1, su.contact);

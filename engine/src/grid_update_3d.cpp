@@ -25,17 +25,8 @@ void grid_update_3d(State3D& s) {
       Node3D& n = row[k];
       if (n.m <= 0.0) continue;
       const double inv_m = 1.0 / n.m;
-      double vy = n.vy * inv_m;
-      if (at_bottom) {
-        const double c = constrain(vy, 0.0, +1, su.contact);
-        bottom_impulse += n.m * (c - vy);
-        vy = c;
-      }
-      if (at_top) {
-        const double c = constrain(vy, -su.V, -1, su.contact);
-        top_impulse += n.m * (c - vy);
-        vy = c;
-      }
+      const double vy = apply_plates(n.vy * inv_m, n.m, at_bottom, at_top, su.V, su.contact,
+                                     bottom_impulse, top_impulse);
       n.vx *= inv_m;
       n.vy = vy;
       n.vz *= inv_m;

@@ -38,4 +38,22 @@ inline double constrain(double v, double plate, double push, PlateContact contac
   return push > 0 ? std::max(v, plate) : std::min(v, plate);
 }
 
+// The two plates on a node's normal velocity vy (the node of mass m at or beyond the bottom
+// plate, at rest, or the top one, moving down at V): returns the constrained vy and adds each
+// plate's change of the node's momentum, its reaction impulse, to bottom or top.
+inline double apply_plates(double vy, double m, bool at_bottom, bool at_top, double V,
+                           PlateContact contact, double& bottom, double& top) {
+  if (at_bottom) {
+    const double c = constrain(vy, 0.0, +1, contact);
+    bottom += m * (c - vy);
+    vy = c;
+  }
+  if (at_top) {
+    const double c = constrain(vy, -V, -1, contact);
+    top += m * (c - vy);
+    vy = c;
+  }
+  return vy;
+}
+
 }  // namespace compaction
