@@ -343,7 +343,10 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
                                 "(numerics.seed), got " + std::to_string(seeds.size()));
     }
     plan.adaptive = adaptive::parse_spec(body["adaptive"], limits.max_points);
-    for (const adaptive::Point& pt : adaptive::initial_points(*plan.adaptive)) {
+    // The initial grid in the planner's order (cheapest first, as every later point): the
+    // queue runs a sweep's jobs in the order they were added.
+    const std::size_t n_initial = adaptive::initial_points(*plan.adaptive).size();
+    for (const adaptive::Point& pt : adaptive::next_points(*plan.adaptive, {}, {}, n_initial)) {
       add(make_scene(base, pt.S, pt.R, phi[0], "", limits));
     }
     return plan;

@@ -286,8 +286,15 @@ TEST(Planner, AnAdaptiveSweepStartsWithItsInitialGridAtItsPhi) {
   EXPECT_EQ(p.adaptive->budget, 200u);
   ASSERT_EQ(p.scenes.size(), 25u);
   for (const auto& s : p.scenes) EXPECT_EQ(s.phi, 0.4);
-  EXPECT_EQ(p.scenes.front().S, 1e-3);
+  // Cheapest first (a run costs about 1/S), as the planner ranks every later point: the
+  // queue runs a sweep's jobs in the order they were added.
+  EXPECT_EQ(p.scenes.front().S, 1e-1);
+  EXPECT_EQ(p.scenes.front().R, 1e-5);
+  EXPECT_EQ(p.scenes.back().S, 1e-3);
   EXPECT_EQ(p.scenes.back().R, 1e-1);
+  for (std::size_t i = 1; i < p.scenes.size(); ++i) {
+    EXPECT_GE(p.scenes[i - 1].S, p.scenes[i].S) << "scene " << i;
+  }
   // Further points get the sweep's numerics and phi.
   const auto more = adaptive_scenes(p, {{0.02, 3e-4}});
   ASSERT_EQ(more.size(), 1u);
