@@ -146,8 +146,8 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
   auto insert_job = w.prepare(
       "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
       " state, priority, attempts, max_attempts, run_after, worker, progress_eps, created_at,"
-      " started_at, finished_at)"
-      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, 'succeeded', ?, ?, max(?, 3), ?, ?, ?, ?, ?, ?)");
+      " started_at, finished_at, structure)"
+      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, 'succeeded', ?, ?, max(?, 3), ?, ?, ?, ?, ?, ?, ?)");
   auto fill_job = w.prepare(
       "UPDATE jobs SET state = 'succeeded', lease_token = NULL, lease_deadline = NULL,"
       " worker = ?2, progress_eps = ?3, started_at = ?4, finished_at = ?5"
@@ -201,6 +201,7 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
           .bind(15, now)
           .bind(16, run.started_at)
           .bind(17, run.finished_at)
+          .bind(18, run.job.structure)
           .run();
       job_id = w.last_insert_rowid();
       insert_imported(w, job_id, run, written[i]->paths, now);

@@ -261,7 +261,7 @@ std::string job_identity(const SceneParams& p, const std::string& engine_version
 
 NewJob job_row(const SceneParams& p, const std::string& engine_version) {
   return {job_identity(p, engine_version), canonical_scene(p), p.S, p.R, p.phi, p.eps_final(),
-          p.grid_cells_per_unit()};
+          p.grid_cells_per_unit(), to_string(p.structure)};
 }
 
 NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version) {

@@ -17,9 +17,11 @@ namespace {
 }  // namespace
 
 Database::Database(const std::string& path, int busy_timeout_ms, Access access) {
-  const int flags = (access == Access::read_only ? SQLITE_OPEN_READONLY
-                                                 : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE) |
-                    SQLITE_OPEN_FULLMUTEX;
+  // A read-only connection lives in a ReaderPool, which lends it to one thread at a time, so
+  // SQLite's own per-call mutex is left out (NOMUTEX); the writer keeps it (FULLMUTEX).
+  const int flags = access == Access::read_only
+                        ? SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX
+                        : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX;
   if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
     std::string msg = "cannot open database " + path + ": " +
                       (db_ ? sqlite3_errmsg(db_) : "out of memory");

@@ -29,13 +29,15 @@ class Statement;
 
 enum class Access { read_write, read_only };
 
+
 class Database {
  public:
   // Opens (creating) the file, sets WAL, synchronous NORMAL, foreign keys and the busy timeout.
   // In WAL mode NORMAL keeps every commit atomic and the file consistent through any crash,
   // but a commit reaches the disk only with the next sync of the WAL (WalSync) or checkpoint:
   // a power loss may undo the last commits. A crash of the process alone loses nothing.
-  // A read-only connection needs the file to exist in WAL mode already.
+  // A read-only connection needs the file to exist in WAL mode already, and serves one thread
+  // at a time (it is opened without SQLite's per-call mutex; ReaderPool lends it so).
   explicit Database(const std::string& path, int busy_timeout_ms = 5000,
                     Access access = Access::read_write);
   ~Database();

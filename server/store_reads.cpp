@@ -1,5 +1,8 @@
 #include "store_reads.hpp"
 
+#include <algorithm>
+#include <tuple>
+
 namespace compaction::server {
 
 namespace {
@@ -104,13 +107,6 @@ SweepRecord read_sweep(sqlite::Statement& s, sqlite::Database& db) {
   r.origin = s.opt_text(8);
   r.counts = counts_of_sweep(db, r.id);
   return r;
-}
-
-// SQL for one number of the result's features (JSON text): NULL when the key is absent, null or
-// not a number.
-std::string feature_number(const std::string& key) {
-  return "CASE WHEN json_type(r.features, '$." + key + "') IN ('real', 'integer')" +
-         " THEN json_extract(r.features, '$." + key + "') END";
 }
 
 }  // namespace
@@ -240,14 +236,17 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
       "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
-      " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps, " +
-      feature_number("band_speed_error") + ", " + feature_number("band_speed_transit") + ", " +
-      feature_number("band_speed_transit_error") + ", h.label, json_extract(j.scene, '$.structure')" +
-      " FROM" + job_tables +
+      " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps,"
+      " r.band_speed_error, r.band_speed_transit, r.band_speed_transit_error, h.label,"
+      " j.structure"
+      // The covering indexes of migration 0008; named, as SQLite would otherwise read each
+      // result by its row (rowid) and so its whole summary.
+      " FROM jobs j INDEXED BY jobs_map"
+      " LEFT JOIN results r INDEXED BY results_map ON r.job_id = j.id"
+      " LEFT JOIN human_labels h ON h.job_id = j.id"
       " WHERE j.phi BETWEEN ?1 - 1e-9 AND ?1 + 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
-      " AND (?3 IS NULL OR j.cells_per_unit = ?3)"
-      " ORDER BY j.S, j.R, j.id");
+      " AND (?3 IS NULL OR j.cells_per_unit = ?3)");
   s.bind(1, phi).bind(2, sweep_id).bind(3, cells_per_unit);
   std::vector<PhaseMapPoint> points;
   while (s.step()) {
@@ -272,6 +271,14 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
     p.human_label = s.opt_text(17);
     if (auto structure = s.opt_text(18)) p.structure = *structure;
     points.push_back(std::move(p));
+  }
+  // jobs_map yields the rows by (phi, S, R, id), which is (S, R, id) whenever the jobs within the
+  // tolerance share one phi; sorted here otherwise (an ORDER BY would sort every time).
+  const auto by_S_R_id = [](const PhaseMapPoint& a, const PhaseMapPoint& b) {
+    return std::tie(a.S, a.R, a.job_id) < std::tie(b.S, b.R, b.job_id);
+  };
+  if (!std::is_sorted(points.begin(), points.end(), by_S_R_id)) {
+    std::sort(points.begin(), points.end(), by_S_R_id);
   }
   return points;
 }

@@ -27,8 +27,8 @@ void SweepStore::link_jobs(std::int64_t sweep_id, std::int64_t position,
                            Millis now, CreatedSweep& out) {
   auto insert = db_.writer.prepare(
       "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
-      " priority, max_attempts, run_after, created_at)"
-      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?11)"
+      " priority, max_attempts, run_after, created_at, structure)"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?11, ?12)"
       " ON CONFLICT (identity) DO NOTHING");
   auto find = db_.writer.prepare("SELECT id, state FROM jobs WHERE identity = ?");
   // A job another sweep already holds: raise its priority to the highest that wants it.
@@ -54,6 +54,7 @@ void SweepStore::link_jobs(std::int64_t sweep_id, std::int64_t position,
         .bind(9, priority)
         .bind(10, max_attempts)
         .bind(11, now)
+        .bind(12, p.structure)
         .run();
     const bool created = db_.writer.changes() > 0;
     find.reset();

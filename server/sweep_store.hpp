@@ -18,6 +18,7 @@ struct NewJob {
   std::string scene;     // canonical scene JSON
   double S = 0, R = 0, phi = 0, eps_end = 0;
   int cells_per_unit = 0;
+  std::string structure;  // the scene's voids: "regular" or "random"
 };
 
 struct NewSweep {

@@ -38,7 +38,18 @@ struct JsonText {
   }
   void value(std::int64_t v) { out += std::to_string(v); }
   void value(const std::string& v) {
-    out += json(v).dump(-1, ' ', false, json::error_handler_t::replace);
+    // Printable ASCII without a quote or a backslash is its own JSON text; anything else (an
+    // escape, or UTF-8 that may be invalid) goes through the library's writer.
+    const bool plain = std::all_of(v.begin(), v.end(), [](char c) {
+      return c >= 0x20 && c < 0x7f && c != '"' && c != '\\';
+    });
+    if (plain) {
+      out += '"';
+      out += v;
+      out += '"';
+    } else {
+      out += json(v).dump(-1, ' ', false, json::error_handler_t::replace);
+    }
   }
   template <typename T>
   void value(const std::optional<T>& v) {

@@ -255,8 +255,10 @@ TEST_F(StoreTest, PhaseMapNamesEachPointsStructure) {
   random["numerics"]["seeds"] = json::parse("[1, 2]");
   store.sweeps.create(plan(random), t0);
   {
+    // A scene written before the key existed has none, and migration 0008 left its column NULL.
     sqlite::Database db(dir.file("jobs.db"));
-    db.prepare("UPDATE jobs SET scene = json_remove(scene, '$.structure') WHERE id = 1").run();
+    db.prepare("UPDATE jobs SET scene = json_remove(scene, '$.structure'), structure = NULL"
+               " WHERE id = 1").run();
   }
   const json map = phase_map_of(store, 0.4, std::nullopt);
   ASSERT_EQ(map["points"].size(), 5u);
@@ -316,6 +318,49 @@ TEST(StoreSchema, MigrationsAreAppliedOnceAndRecorded) {
   ASSERT_TRUE(q.step());
   EXPECT_EQ(q.int64(0), static_cast<std::int64_t>(embedded_migrations().size()));
   EXPECT_EQ(q.text(1), "0001_init.sql");
+}
+
+// Migration 0008 on a database written before it: the band-speed readings move from the
+// features into their columns (numbers only), the structure from the scene, and the map reads
+// the same values as the intake writes for a new result.
+TEST(StoreSchema, TheMapColumnsAreFilledFromTheFeaturesAndScenesOfEarlierRuns) {
+  TempDir dir;
+  {
+    Store s(dir.file("db"), config());
+    s.sweeps.create(plan(points({0.01, 0.02})), t0);
+    for (const json& features :
+         {json{{"band_speed_error", 0.008}, {"band_speed_transit", 1.694},
+               {"band_speed_transit_error", 2}},
+          json{{"band_speed_error", "wide"}, {"band_speed_transit", nullptr}}}) {
+      auto l = s.queue.lease("w", "test-1", t0);
+      ResultRecord r = result_for(s, l->job_id);
+      r.features = features.dump();
+      s.queue.complete(l->job_id, l->token, r, t0);
+    }
+  }
+  {
+    // Back to the schema of 0007: without the columns, the indexes and the record of 0008.
+    sqlite::Database db(dir.file("db"));
+    db.exec_script(
+        "DROP INDEX jobs_map; DROP INDEX results_map; CREATE INDEX jobs_phi ON jobs (phi);"
+        "ALTER TABLE results DROP COLUMN band_speed_error;"
+        "ALTER TABLE results DROP COLUMN band_speed_transit;"
+        "ALTER TABLE results DROP COLUMN band_speed_transit_error;"
+        "ALTER TABLE jobs DROP COLUMN structure;"
+        "DELETE FROM schema_migrations WHERE name = '0008_phase_map_columns.sql';");
+  }
+  Store s(dir.file("db"), config());
+  const json map = phase_map_of(s, 0.4, std::nullopt);
+  ASSERT_EQ(map["points"].size(), 2u);
+  const json& numbers = map["points"][0];
+  EXPECT_EQ(numbers["band_speed_error"], 0.008);
+  EXPECT_EQ(numbers["band_speed_transit"], 1.694);
+  EXPECT_EQ(numbers["band_speed_transit_error"], 2.0) << "an integer is a number";
+  const json& others = map["points"][1];
+  EXPECT_TRUE(others["band_speed_error"].is_null()) << "a text is not a number";
+  EXPECT_TRUE(others["band_speed_transit"].is_null());
+  EXPECT_TRUE(others["band_speed_transit_error"].is_null()) << "absent";
+  for (const json& p : map["points"]) EXPECT_EQ(p["structure"], "regular");
 }
 
 TEST(StoreSchema, AnEditedMigrationIsRefused) {
@@ -448,6 +493,7 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
   PhaseMapPoint queued;
   queued.S = 0.001 + 1e-4 * 7 + (0.09 - 0.001) / 49 * 13, queued.R = 1.0 / 3.0, queued.phi = 0.55, queued.eps_end = 1;
   queued.state = "queued", queued.job_id = 7, queued.cells_per_unit = 8;
+  queued.runner_up = "tab\there\x7f";  // only a control character to escape
   for (const auto& points : {std::vector<PhaseMapPoint>{}, std::vector<PhaseMapPoint>{done, queued}}) {
     // The same keys, order and values (doubles compared exactly); a number's text may be
     // shorter than nlohmann's, never another double.
