@@ -29,7 +29,6 @@ class Statement;
 
 enum class Access { read_write, read_only };
 
-
 class Database {
  public:
   // Opens (creating) the file, sets WAL, synchronous NORMAL, foreign keys and the busy timeout.

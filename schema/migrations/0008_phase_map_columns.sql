@@ -1,5 +1,5 @@
 -- 0008: the phase map's numbers as columns, so that GET /phase-map reads them without parsing
--- a JSON text per run (docs/service.md, "Limits"; bench/results/queue_bench.md).
+-- a JSON text per run (measured in bench/results/queue_bench.md).
 -- Never edit once applied: add 0009_*.sql instead.
 
 -- The band-speed readings of the classifier's features (a number, or NULL when the key is
