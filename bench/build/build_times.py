@@ -2,8 +2,8 @@
 """The full build's time with and without the precompiled headers that targets declare
 (target_precompile_headers; bench/results/build_times.md names the ones measured), in one run:
 for each variant, a clean build of a preset's configuration in a new folder (cmake -G Ninja, -j
-of the cores), its wall time, and from ninja's log the CPU seconds of compiling (all files, and the server's core
-and tests alone) and of linking. The ratio is without / with.
+of the cores), its wall time, and from ninja's log the CPU seconds of compiling (all files, and
+the server's core and tests alone) and of linking. The ratio is without / with.
 
 usage: bench/build/build_times.py [--preset release|asan] [--repeat N] [--out FILE]
   --preset   the configuration built (the flags of CMakePresets.json's preset; default release)
