@@ -38,11 +38,21 @@ Reply to_reply(const httplib::Result& r) {
   return out;
 }
 
-httplib::Client make_client(const std::string& base) {
-  httplib::Client c(base);
+httplib::Headers auth_headers(const std::string& token) {
+  httplib::Headers h;
+  if (!token.empty()) h.emplace("Authorization", "Bearer " + token);
+  return h;
+}
+
+void set_timeouts(httplib::Client& c) {
   c.set_connection_timeout(5, 0);
   c.set_read_timeout(120, 0);
   c.set_write_timeout(120, 0);
+}
+
+httplib::Client make_client(const std::string& base) {
+  httplib::Client c(base);
+  set_timeouts(c);
   return c;
 }
 
@@ -51,15 +61,24 @@ httplib::Client make_client(const std::string& base) {
 ApiClient::ApiClient(std::string base_url, std::string token)
     : base_url_(std::move(base_url)), token_(std::move(token)) {}
 
+ApiClient::~ApiClient() = default;
+
 Reply ApiClient::post_json(const std::string& path, const json& body) {
   auto c = make_client(base_url_);
-  httplib::Headers h;
-  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  const httplib::Headers h = auth_headers(token_);
   return to_reply(c.Post(path.c_str(), h, body.dump(), "application/json"));
 }
 
 Reply ApiClient::lease(const std::string& worker, const std::string& engine_version) {
-  return post_json("/api/v1/leases", {{"worker", worker}, {"engine_version", engine_version}});
+  const json body = {{"worker", worker}, {"engine_version", engine_version}};
+  std::unique_ptr<httplib::Client> kept;
+  {
+    const std::lock_guard lock(kept_mutex_);
+    kept = std::move(kept_);
+  }
+  if (!kept) return post_json("/api/v1/leases", body);
+  const httplib::Headers h = auth_headers(token_);
+  return to_reply(kept->Post("/api/v1/leases", h, body.dump(), "application/json"));
 }
 
 Reply ApiClient::heartbeat(std::int64_t job_id, const std::string& lease_token, double eps,
@@ -71,15 +90,20 @@ Reply ApiClient::heartbeat(std::int64_t job_id, const std::string& lease_token, 
 
 Reply ApiClient::complete(std::int64_t job_id, const std::string& lease_token,
                           const std::string& summary, const std::vector<UploadFile>& files) {
-  auto c = make_client(base_url_);
-  httplib::Headers h;
-  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  auto c = std::make_unique<httplib::Client>(base_url_);
+  set_timeouts(*c);
+  c->set_keep_alive(true);
+  const httplib::Headers h = auth_headers(token_);
   httplib::MultipartFormDataItems items = {
       {"lease_token", lease_token, "", "text/plain"},
       {"summary", summary, "summary.json", "application/json"},
   };
   for (const auto& f : files) items.push_back({"files", f.data, f.name, "application/octet-stream"});
-  return to_reply(c.Post(("/api/v1/jobs/" + std::to_string(job_id) + "/complete").c_str(), h, items));
+  const Reply r =
+      to_reply(c->Post(("/api/v1/jobs/" + std::to_string(job_id) + "/complete").c_str(), h, items));
+  const std::lock_guard lock(kept_mutex_);
+  kept_ = std::move(c);
+  return r;
 }
 
 Reply ApiClient::fail(std::int64_t job_id, const std::string& lease_token,
@@ -96,8 +120,7 @@ Reply ApiClient::release(std::int64_t job_id, const std::string& lease_token) {
 Reply ApiClient::upload_checkpoint(std::int64_t job_id, const std::string& lease_token,
                                   std::int64_t step, double eps, const std::string& bytes) {
   auto c = make_client(base_url_);
-  httplib::Headers h;
-  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  const httplib::Headers h = auth_headers(token_);
   const httplib::MultipartFormDataItems items = {
       {"lease_token", lease_token, "", "text/plain"},
       {"step", std::to_string(step), "", "text/plain"},
@@ -110,8 +133,7 @@ Reply ApiClient::upload_checkpoint(std::int64_t job_id, const std::string& lease
 
 Reply ApiClient::download_checkpoint(std::int64_t job_id, std::string& bytes) {
   auto c = make_client(base_url_);
-  httplib::Headers h;
-  if (!token_.empty()) h.emplace("Authorization", "Bearer " + token_);
+  const httplib::Headers h = auth_headers(token_);
   const auto r = c.Get(("/api/v1/jobs/" + std::to_string(job_id) + "/checkpoint").c_str(), h);
   if (r && r->status == 200) {
     Reply out;

@@ -4,11 +4,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+namespace httplib {
+class Client;
+}
 
 namespace compaction::worker {
 
@@ -36,11 +42,15 @@ struct UploadFile {
 class ApiClient {
  public:
   ApiClient(std::string base_url, std::string token);
+  ~ApiClient();
 
+  // The next job, on the connection the last complete left open if there is one; the
+  // connection is closed when the answer is in.
   Reply lease(const std::string& worker, const std::string& engine_version);
   // resumed: {"step", "eps"} of the checkpoint the run went on from, once (null: none).
   Reply heartbeat(std::int64_t job_id, const std::string& lease_token, double eps,
                   const nlohmann::json& resumed = nullptr);
+  // The job's result; its connection stays open for the lease that follows.
   Reply complete(std::int64_t job_id, const std::string& lease_token, const std::string& summary,
                  const std::vector<UploadFile>& files);
   Reply fail(std::int64_t job_id, const std::string& lease_token, const std::string& reason,
@@ -57,6 +67,11 @@ class ApiClient {
 
   std::string base_url_;
   std::string token_;
+  // A worker that has finished a job asks for the next one at once: the two requests share one
+  // connection, which holds a thread of the server only between them (heartbeats, which are
+  // seconds apart, open their own).
+  std::mutex kept_mutex_;
+  std::unique_ptr<httplib::Client> kept_;
 };
 
 }  // namespace compaction::worker

@@ -6,8 +6,9 @@ loopback with fake workers, for one or two server binaries in the same run:
              is an HTTP client that leases a job (POST /leases), then uploads a minimal valid
              bundle at once (POST /jobs/{id}/complete: the summary of the leased scene with a
              classification, and one 200-byte frames.csv): the same endpoints, checks, artifact
-             files and transactions as a real worker's, without the simulation. Median of 3
-             rounds of 3 s each.
+             files and transactions as a real worker's, without the simulation; like
+             compaction-worker, it sends the lease that follows a complete on the complete's
+             connection. Median of 3 rounds of 3 s each.
   readers    200 dashboard readers at once, each one GET /phase-map of a 2 000-job sweep (every
              job succeeded): median and 90th percentile of their waits and the answer's size;
              then the same 200 polling again with the ETag of their first answer
@@ -79,30 +80,38 @@ def multipart(lease, engine):
     return b"".join(out)
 
 
-def post(port, path, body, content_type, resets):
-    """One request on a connection of its own, as compaction-worker sends it; a connection the
-    server reset is counted and the request sent again (the worker retries an unreachable
-    server too)."""
+def post(port, path, body, content_type, resets, kept=None, keep=False):
+    """One request as compaction-worker sends it: on `kept` (the connection the last complete
+    left open) or on a new connection; the connection is closed after the answer, unless `keep`
+    (a complete's, which the next lease uses). Returns (status, body, the kept connection or
+    None). A connection the server reset or closed is counted and the request sent again on a
+    new one (the worker retries an unreachable server too)."""
     while True:
-        c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+        c, kept = kept or http.client.HTTPConnection("127.0.0.1", port, timeout=60), None
         try:
             c.request("POST", path, body=body, headers={"Content-Type": content_type})
             r = c.getresponse()
-            return r.status, r.read()
+            answer = r.status, r.read()
+            if keep:
+                return answer + (c,)
+            c.close()
+            return answer + (None,)
         except (ConnectionError, http.client.RemoteDisconnected):
+            c.close()
             resets[0] += 1
             time.sleep(0.01)
-        finally:
-            c.close()
 
 
-def worker_thread(port, engine, name, start, end, out):
-    """Lease + complete until `end`; counts the cycles that finished within [start, end]."""
+def worker_thread(port, engine, name, start, end, share, out):
+    """Lease + complete until `end`; counts the cycles that finished within [start, end]. With
+    share false, every request on a connection of its own (compaction-worker until 2026-12-03)."""
     lease_body = json.dumps({"worker": name, "engine_version": engine})
     done, times, idle, resets = 0, [], 0, [0]
+    kept = None
     while time.time() < end:
         t0 = time.time()
-        status, body = post(port, "/api/v1/leases", lease_body, "application/json", resets)
+        status, body, _ = post(port, "/api/v1/leases", lease_body, "application/json", resets, kept)
+        kept = None
         if status == 204:
             idle += 1
             time.sleep(0.01)
@@ -111,14 +120,17 @@ def worker_thread(port, engine, name, start, end, out):
             raise RuntimeError("lease -> %d %s" % (status, body[:200]))
         lease = json.loads(body)
         before = resets[0]
-        status, body = post(port, "/api/v1/jobs/%d/complete" % lease["job_id"], multipart(lease, engine),
-                            "multipart/form-data; boundary=benchboundary", resets)
+        status, body, kept = post(port, "/api/v1/jobs/%d/complete" % lease["job_id"],
+                                  multipart(lease, engine),
+                                  "multipart/form-data; boundary=benchboundary", resets, keep=share)
         if status != 200 and not (status == 409 and resets[0] > before):  # 409: the first try went in
             raise RuntimeError("complete -> %d %s" % (status, body[:200]))
         t1 = time.time()
         if start <= t0 and t1 <= end:
             done += 1
             times.append(t1 - t0)
+    if kept:
+        kept.close()
     out.append((done, times, idle, resets[0]))
 
 
@@ -141,10 +153,10 @@ def reader_thread(port, path, etag, barrier, out):
 def process_main(kind, args, n_threads, index, queue):
     out, threads = [], []
     if kind == "worker":
-        port, engine, start, end = args
+        port, engine, start, end, share = args
         for i in range(n_threads):
             threads.append(threading.Thread(target=worker_thread, args=(
-                port, engine, "bench-%d-%d" % (index, i), start, end, out)))
+                port, engine, "bench-%d-%d" % (index, i), start, end, share, out)))
     else:
         port, path, etag, at = args
         barrier = threading.Barrier(n_threads, timeout=60)
@@ -181,9 +193,9 @@ def run_clients(kind, n, args):
     return results
 
 
-def cycles(server, engine, n, seconds):
+def cycles(server, engine, n, seconds, share=True):
     start = time.time() + 0.5  # the clients connect and run half a second before counting
-    results = run_clients("worker", n, (server.port, engine, start, start + seconds))
+    results = run_clients("worker", n, (server.port, engine, start, start + seconds, share))
     done = sum(r[0] for r in results)
     times = [t for r in results for t in r[1]]
     idle = sum(r[2] for r in results)
@@ -230,7 +242,7 @@ def one_reader(server, path, engine, n=20):
     return statistics.median(times), size
 
 
-def measure(bin_dir, workdir):
+def measure(bin_dir, workdir, share=True):
     s = Server(bin_dir, workdir)
     out = {}
     try:
@@ -256,7 +268,7 @@ def measure(bin_dir, workdir):
             for _ in range(ROUNDS):
                 while queued(s) < rate * ROUND_SECONDS * 2 + 2000:  # never dry within a round
                     create(s, sweep_body("feed", 0, phis.pop(0)))
-                rounds.append(cycles(s, engine, n, ROUND_SECONDS))
+                rounds.append(cycles(s, engine, n, ROUND_SECONDS, share))
                 rate = max(rate, rounds[-1][0])
             out["cycles"][n] = (statistics.median(r[0] for r in rounds),
                                 statistics.median(r[1] for r in rounds), sum(r[2] for r in rounds))
@@ -274,15 +286,21 @@ def main():
     ap.add_argument("--bin-rev", help="the commit --bin was built from, when its folder is not "
                     "in a git checkout (default: the checkout's HEAD)")
     ap.add_argument("--baseline-rev", help="the same for --baseline")
+    ap.add_argument("--baseline-client", action="store_true",
+                    help="measure the baseline's cycles with fake workers that open a connection "
+                    "per request, as compaction-worker did until 2026-12-03 (without --baseline: "
+                    "the --bin server measured twice, once with either client)")
     a = ap.parse_args()
     workdir = tempfile.mkdtemp(prefix="queue-bench-")
     load_before = os.getloadavg()
     try:
         runs = []
-        if a.baseline:
-            print("measuring the baseline %s ..." % a.baseline, file=sys.stderr)
-            runs.append(("baseline (at %s)" % (a.baseline_rev or revision_of(a.baseline)),
-                         measure(a.baseline, workdir)))
+        if a.baseline or a.baseline_client:
+            base = a.baseline or a.bin
+            rev = a.baseline_rev or (a.bin_rev if not a.baseline else None) or revision_of(base)
+            print("measuring the baseline %s ..." % base, file=sys.stderr)
+            runs.append(("baseline (at %s%s)" % (rev, ", a connection per request" if a.baseline_client else ""),
+                         measure(base, workdir, share=not a.baseline_client)))
         print("measuring %s ..." % a.bin, file=sys.stderr)
         runs.append(("this build (at %s)" % (a.bin_rev or revision_of(a.bin)), measure(a.bin, workdir)))
     except BaseException:
