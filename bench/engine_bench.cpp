@@ -1,7 +1,9 @@
 // Engine speed on the reference scene: pseudo-1D, phi = 0.4, 20 cells per
 // unit cell, 2 x 2 particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one
-// thread unless the benchmark says otherwise. Reports ns per particle-step (time-stepping loop
-// only, scene building excluded) and its split by stage. Run it with bench/run_engine_bench.sh.
+// thread unless the benchmark says otherwise; and on the large scene, the same column at 40 cells
+// per unit cell (86 904 particles, the `reference` preset's grid at phi = 0.4), ~1600 steps (eps
+// 0 -> 0.002), on one and two threads. Reports ns per particle-step (time-stepping loop only,
+// scene building excluded) and its split by stage. Run it with bench/run_engine_bench.sh.
 #include <benchmark/benchmark.h>
 
 #include "compaction/simulation.hpp"
@@ -75,6 +77,30 @@ void BM_ReferenceScene_Apic_2Threads(benchmark::State& state) {
   run(state, p);
 }
 
+// The large scene, with one velocity field or with two across closing pores (what the
+// presets' pore_contact = auto runs there), on one and on two threads.
+compaction::SceneParams large_scene(compaction::PoreContact contact, int threads) {
+  auto p = reference_scene();
+  p.cells_per_unit = 40;
+  p.eps_end = 0.002;
+  p.pore_contact = contact;
+  p.threads = threads;
+  return p;
+}
+
+void BM_LargeScene_Apic_1Thread(benchmark::State& state) {
+  run(state, large_scene(compaction::PoreContact::single_field, 1));
+}
+void BM_LargeScene_Apic_2Threads(benchmark::State& state) {
+  run(state, large_scene(compaction::PoreContact::single_field, 2));
+}
+void BM_LargeScene_ApicSplitFields_1Thread(benchmark::State& state) {
+  run(state, large_scene(compaction::PoreContact::split_fields, 1));
+}
+void BM_LargeScene_ApicSplitFields_2Threads(benchmark::State& state) {
+  run(state, large_scene(compaction::PoreContact::split_fields, 2));
+}
+
 }  // namespace
 
 BENCHMARK(BM_ReferenceScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -83,5 +109,9 @@ BENCHMARK(BM_ReferenceScene_ApicBspline_1Thread)->Unit(benchmark::kMillisecond)-
 BENCHMARK(BM_ReferenceScene_ApicSplitFields_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_1Thread_BaselineCopy)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_LargeScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_LargeScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_LargeScene_ApicSplitFields_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_LargeScene_ApicSplitFields_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK_MAIN();

@@ -11,9 +11,11 @@ for b in data["benchmarks"]:
         continue
     rows[b["run_name"].replace("BM_", "").replace("/iterations:1", "")] = b
 
-print("# Engine benchmark: reference scene\n")
-print("pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, S = 4e-3, "
-      "R = 1e-5, eps 0 -> 0.008 (about 3200 steps). Medians of 5 repetitions.\n")
+print("# Engine benchmark: reference scene and large scene\n")
+print("Reference scene: pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, "
+      "S = 4e-3, R = 1e-5, eps 0 -> 0.008 (about 3200 steps). Large scene: the same column at 40 "
+      "cells per unit cell (86 904 particles), eps 0 -> 0.002 (about 1600 steps). "
+      "Medians of 5 repetitions.\n")
 print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}. "
       f"Engine built Release (-O3, x86-64 baseline, with an AVX2 copy of the particle loops that "
       f"runs where the processor has AVX2; both copies give the same bits, engine/src/"
@@ -31,3 +33,13 @@ if base:
     print("\nRatios to ReferenceScene_Apic_1Thread (ns / particle-step):\n")
     for name, b in rows.items():
         print(f"- {name}: {b['ns_per_particle_step'] / base['ns_per_particle_step']:.2f}")
+pairs = [(n, n.replace("_1Thread", "_2Threads")) for n in rows if n.endswith("_1Thread")]
+pairs = [(a, b) for a, b in pairs if b in rows]
+if pairs:
+    print("\nTwo threads against one, same run (ns / particle-step, one thread over two):\n")
+    for a, b in pairs:
+        ra, rb = rows[a], rows[b]
+        speedup = ra["ns_per_particle_step"] / rb["ns_per_particle_step"]
+        print(f"- {a.replace('_1Thread', '')}: {speedup:.2f} "
+              f"(particles {ra['particles']:.0f}; P2G {ra['p2g_ns'] / rb['p2g_ns']:.2f}, "
+              f"G2P {ra['g2p_ns'] / rb['g2p_ns']:.2f})")

@@ -14,9 +14,10 @@ inline constexpr double kNsPerParticleStep = 29.0;
 // What the alternatives cost per particle-step, against the default (docs/savings.md).
 inline constexpr double kPicFlipFactor = 1.19;
 inline constexpr double kBsplineFactor = 1.30;
-// Two velocity fields across closing pores (pore_contact = split_fields): 2.42 times the
-// default per particle-step on one thread (bench/results/engine_bench.md, 2026-12-02).
-inline constexpr double kSplitFieldsFactor = 2.42;
+// Two velocity fields across closing pores (pore_contact = split_fields): 2.03 times the
+// default per particle-step on one thread (median of three runs of bench/results/engine_bench.md,
+// 2026-12-03, after g2p came to read the field p2g chose instead of testing again).
+inline constexpr double kSplitFieldsFactor = 2.03;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
 

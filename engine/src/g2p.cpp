@@ -5,8 +5,9 @@
 //   blocks of kBlock particles at a time so that it vectorises across them.
 // gradient = bspline updates Fe with the exact gradient sum v_i (x) grad w_ip instead of C_p.
 // pore_contact = split_fields reads each node's velocity from the field p2g put the particle
-// in, and carries the particle's face normal with the flow (pore_contact.hpp).
+// in (its field bits), and carries the particle's face normal with the flow (pore_contact.hpp).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -40,7 +41,7 @@ struct GridView {
 // particles' normals (else 0 and null).
 struct SplitView {
   std::ptrdiff_t second;
-  const double *nnx, *nny;
+  const std::uint16_t* bits;  // the particles' field bits, as p2g set them
   double *pnx, *pny;
 };
 
@@ -54,12 +55,10 @@ template <bool kApic, bool kExact, bool kSplit>
   const double dx = v.dx, inv_dx = v.inv_dx, c_scale = v.c_scale, alpha = v.alpha;
   for (std::size_t i = 0; i < n; ++i) {
     // The node k as this particle sees it: its field's (split_fields) or the one field.
-    double nx = 0.0, ny = 0.0;
-    if constexpr (kSplit) nx = split.pnx[i], ny = split.pny[i];
-    auto node = [&](std::ptrdiff_t k) -> const Node& {
-      if constexpr (kSplit) {
-        k += pore_contact::second_field(nx, ny, split.nnx[k], split.nny[k]) ? split.second : 0;
-      }
+    [[maybe_unused]] unsigned bits = 0;
+    if constexpr (kSplit) bits = split.bits[i];
+    auto node = [&](std::ptrdiff_t k, int pair) -> const Node& {
+      if constexpr (kSplit) k += (bits >> pair) & 1u ? split.second : 0;
       return nodes[k];
     };
     const auto kx = kernel::quadratic(px[i] * inv_dx + v.gxo);
@@ -75,9 +74,9 @@ template <bool kApic, bool kExact, bool kSplit>
     for (int b = 0; b < 3; ++b) {
       const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
       const std::ptrdiff_t row = (ky.base + b) * v.nx;
-      const Node& n0 = node(row + c0);
-      const Node& n1 = node(row + c1);
-      const Node& n2 = node(row + c2);
+      const Node& n0 = node(row + c0, 3 * b);
+      const Node& n1 = node(row + c1, 3 * b + 1);
+      const Node& n2 = node(row + c2, 3 * b + 2);
       const double sx = kx.w[0] * n0.vx + kx.w[1] * n1.vx + kx.w[2] * n2.vx;
       const double sy = kx.w[0] * n0.vy + kx.w[1] * n1.vy + kx.w[2] * n2.vy;
       const double sdx = wdx0 * n0.vx + wdx1 * n1.vx + wdx2 * n2.vx;
@@ -100,6 +99,7 @@ template <bool kApic, bool kExact, bool kSplit>
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
     pc[i] = c;
     if constexpr (kSplit) {  // a material normal follows F^-T: dn/dt = -C^T n
+      const double nx = split.pnx[i], ny = split.pny[i];
       double ux = nx - dt * (c.xx * nx + c.yx * ny), uy = ny - dt * (c.xy * nx + c.yy * ny);
       const double len = std::sqrt(ux * ux + uy * uy);
       if (len > 0.0) ux /= len, uy /= len;
@@ -154,7 +154,7 @@ struct Gather {
       const std::size_t nb = std::min(kBlock, end - b0);
       SplitView split{};
       if constexpr (kSplit) {
-        split = {static_cast<std::ptrdiff_t>(g.field2), g.nnx.data(), g.nny.data(),
+        split = {static_cast<std::ptrdiff_t>(g.field2), P.field_bits.data() + b0,
                  P.nx.data() + b0, P.ny.data() + b0};
       }
       transfer_block<kApic, kExact, kSplit>(
@@ -199,15 +199,31 @@ StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
 
 }  // namespace
 
+// Threads take chunks of kChunk particles in turn: the return mapping costs more where the
+// material yields (a band holds a few rows), so equal shares would leave one thread waiting.
+// Every particle's update is its own, and the measures are maxima, minima and an or, so the
+// result does not depend on which thread took which chunk. kChunk is a whole number of
+// blocks, so the blocks are those of one thread.
+constexpr std::size_t kChunk = 32 * kBlock;
+
 void g2p(State& s, double dt, ThreadPool& pool) {
   std::vector<StepMeasure>& parts = s.partial_measures;  // sized once, one per thread
   const std::size_t n = s.particles.n;
+  std::atomic<std::size_t> next{0};
   pool.run([&](int t) {
-    const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    parts[t] = s.setup.split_fields  // apic and mls (validate())
-                   ? run_variant<Gather<true, false, true>>(s.particles, s.setup, s.grid, b, e, dt)
-                   : run_loop<Gather>(s.setup.transfer, s.setup.gradient, s.particles, s.setup,
-                                      s.grid, b, e, dt);
+    StepMeasure m;
+    m.y_min = m.x_min = std::numeric_limits<double>::infinity();
+    m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+    for (std::size_t b; (b = next.fetch_add(kChunk, std::memory_order_relaxed)) < n;) {
+      const std::size_t e = std::min(b + kChunk, n);
+      const StepMeasure chunk =
+          s.setup.split_fields  // apic and mls (validate())
+              ? run_variant<Gather<true, false, true>>(s.particles, s.setup, s.grid, b, e, dt)
+              : run_loop<Gather>(s.setup.transfer, s.setup.gradient, s.particles, s.setup,
+                                 s.grid, b, e, dt);
+      m = combine(m, chunk);
+    }
+    parts[t] = m;
   });
   StepMeasure m = parts[0];
   for (std::size_t t = 1; t < parts.size(); ++t) m = combine(m, parts[t]);

@@ -9,8 +9,11 @@
 // Particles go in blocks of kScatterBlock: their coefficients first (vectorised across the
 // block), then their node updates (simd_dispatch.hpp: a baseline and an AVX2 copy).
 // pore_contact = split_fields (pore_contact.hpp) first sums the particles' normals on the nodes,
-// then scatters each particle-node pair into the node's first or second field, on one thread.
+// then scatters each particle-node pair into the node's first or second field.
+// With threads, each scatters a share of the particles: into the grid where its rows are its
+// own, else into its scratch arrays, summed into the grid afterwards (scatter_rows.hpp).
 #include <algorithm>
+#include <climits>
 #include <cstring>
 
 #include "kernel.hpp"
@@ -22,13 +25,79 @@ namespace compaction {
 
 namespace {
 
-void clear_rows(const Grid& g, NodeArrays& a, bool flip) {
-  const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
-  const std::size_t hi = static_cast<std::size_t>(g.row_hi) * g.nx;
+// Where a thread's scatter goes: a particle whose stencil rows are `alone` (scatter_rows.hpp)
+// into the grid's arrays, any other into `own`; alone = null sends everything to the grid.
+// split_fields also writes each particle's field bits (Particles::field_bits) for g2p.
+struct Targets {
+  NodeArrays* grid;
+  NodeArrays* own;
+  const std::uint8_t* alone;
+  std::uint16_t* field_bits;
+};
+
+// Zeroes nodes [lo, hi) (and their second field) and the rows' other arrays, where a scene has
+// them.
+void clear_nodes(const Grid& g, NodeArrays& a, std::size_t lo, std::size_t hi) {
   std::fill(a.nodes.begin() + lo, a.nodes.begin() + hi, Node{0, 0, 0, 0});
-  if (flip) {
-    std::fill(a.mx.begin() + lo, a.mx.begin() + hi, 0.0);
-    std::fill(a.my.begin() + lo, a.my.begin() + hi, 0.0);
+  if (g.field2 != 0) {
+    std::fill(a.nodes.begin() + g.field2 + lo, a.nodes.begin() + g.field2 + hi, Node{0, 0, 0, 0});
+  }
+  for (std::vector<double>* v : {&a.mx, &a.my}) {
+    if (!v->empty()) std::fill(v->begin() + lo, v->begin() + hi, 0.0);
+  }
+  if (!a.normal.empty()) std::fill(a.normal.begin() + lo, a.normal.begin() + hi, NodeNormal{0, 0});
+}
+
+// The rows [lo, hi) that particles [begin, end) reach with their stencils.
+void reach(const Particles& P, const Grid& g, std::size_t begin, std::size_t end, int& lo,
+           int& hi) {
+  int first = INT_MAX, last = INT_MIN;
+  const double inv_dx = g.inv_dx, gyo = g.gy;
+  for (std::size_t p = begin; p < end; ++p) {
+    const int base = kernel::quadratic(P.y[p] * inv_dx + gyo).base;
+    first = std::min(first, base), last = std::max(last, base);
+  }
+  lo = begin < end ? first : 0;
+  hi = begin < end ? last + 3 : 0;
+}
+
+// Zeroes thread t's scratch on the rows it may write there: those near a shared row.
+void clear_near_rows(const Grid& g, NodeArrays& a, const ScatterRows& rows, int t) {
+  const int lo = std::max(rows.lo[t], g.row_lo), hi = std::min(rows.hi[t], g.row_hi);
+  for (int r = lo; r < hi; ++r) {
+    if (!rows.near[r]) continue;
+    const std::size_t i = static_cast<std::size_t>(r) * g.nx;
+    clear_nodes(g, a, i, i + g.nx);
+  }
+}
+
+// Adds the threads' scratch into the grid on rows [row_begin, row_end), thread 1 first: the
+// nodes (both fields, and pic_flip's momenta) or, with `normals`, the node normals.
+void sum_scratch(Grid& g, int row_begin, int row_end, bool normals) {
+  const ScatterRows& rows = g.scatter_rows;
+  for (int r = row_begin; r < row_end; ++r) {
+    if (!rows.near[r]) continue;
+    const std::size_t b = static_cast<std::size_t>(r) * g.nx, e = b + g.nx;
+    for (std::size_t u = 0; u < g.scratch.size(); ++u) {
+      if (!rows.reaches(static_cast<int>(u) + 1, r)) continue;
+      const NodeArrays& src = g.scratch[u];
+      NodeArrays& dst = g.arrays;
+      if (normals) {
+        for (std::size_t i = b; i < e; ++i) {
+          dst.normal[i].x += src.normal[i].x, dst.normal[i].y += src.normal[i].y;
+        }
+        continue;
+      }
+      for (std::size_t f = 0; f <= (g.field2 != 0 ? 1u : 0u); ++f) {
+        for (std::size_t i = b + f * g.field2; i < e + f * g.field2; ++i) {
+          Node& d = dst.nodes[i];
+          d.m += src.nodes[i].m, d.vx += src.nodes[i].vx, d.vy += src.nodes[i].vy;
+        }
+      }
+      if (!dst.mx.empty()) {
+        for (std::size_t i = b; i < e; ++i) dst.mx[i] += src.mx[i], dst.my[i] += src.my[i];
+      }
+    }
   }
 }
 
@@ -44,7 +113,8 @@ static_assert(sizeof(Lanes) == sizeof(Node));
 constexpr std::size_t kScatterBlock = 32;
 struct ScatterBlock {
   static constexpr std::size_t n = kScatterBlock;
-  alignas(64) std::ptrdiff_t col0[n], row0[n];  // first stencil column (into col) and row
+  alignas(64) std::ptrdiff_t col0[n], row0[n];  // first stencil column (into col) and node row
+  alignas(64) int base[n];                      // first stencil row
   alignas(64) double wx[3][n], wdx[3][n];       // x-weights, x-weighted offsets
   alignas(64) double wm[3][n], qx[3][n], qy[3][n], qxx[3][n], qyx[3][n];  // per stencil row
   alignas(64) double wy[3][n], dwx[3][n], dwy[3][n];  // bspline, pic_flip only
@@ -74,6 +144,7 @@ template <bool kApic, bool kExact>
     const double mvx = m * pvx[i], mvy = m * pvy[i];
     sb->col0[i] = kx.base + 1;
     sb->row0[i] = ky.base * nx;
+    sb->base[i] = ky.base;
     // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
     // offsets are formed once, each row then adds its y-part.
 #pragma GCC unroll 3
@@ -103,11 +174,16 @@ template <bool kApic, bool kExact, bool kSplit = false>
 struct Scatter {
   template <bool kAvx2>
   [[gnu::always_inline]] static void run(const Particles& P, const Setup& s, const Grid& g,
-                                         NodeArrays& out, std::size_t begin, std::size_t end,
+                                         Targets to, std::size_t begin, std::size_t end,
                                          double dt) {
     const std::ptrdiff_t nx = g.nx;
     const int* col = g.col.data();
-    Node* nodes = out.nodes.data();
+    Node* const grid_nodes = to.grid->nodes.data();
+    Node* const own_nodes = to.own->nodes.data();
+    double* const mxy[2][2] = {{to.grid->mx.data(), to.grid->my.data()},
+                               {to.own->mx.data(), to.own->my.data()}};
+    [[maybe_unused]] const NodeNormal* const normals = g.arrays.normal.data();
+    [[maybe_unused]] const std::ptrdiff_t field2 = static_cast<std::ptrdiff_t>(g.field2);
     ScatterBlock sb;
     for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
       const std::size_t nb = std::min(kScatterBlock, end - b0);
@@ -115,7 +191,14 @@ struct Scatter {
                                    P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
                                    P.tau.data() + b0, &sb);
       for (std::size_t k = 0; k < nb; ++k) {
+        const bool own = to.alone != nullptr && !to.alone[sb.base[k]];
+        Node* const nodes = own ? own_nodes : grid_nodes;
+        [[maybe_unused]] double* const mx = mxy[own][0];
+        [[maybe_unused]] double* const my = mxy[own][1];
         const std::ptrdiff_t cs[3] = {col[sb.col0[k]], col[sb.col0[k] + 1], col[sb.col0[k] + 2]};
+        [[maybe_unused]] unsigned bits = 0;
+        [[maybe_unused]] double pnx = 0.0, pny = 0.0;
+        if constexpr (kSplit) pnx = P.nx[b0 + k], pny = P.ny[b0 + k];
 #pragma GCC unroll 3
         for (int b = 0; b < 3; ++b) {
           const std::ptrdiff_t row = sb.row0[k] + b * nx;
@@ -128,9 +211,10 @@ struct Scatter {
             std::ptrdiff_t i = row + cs[a];
             const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
             if constexpr (kSplit) {
-              const std::size_t p = b0 + k;
-              const bool second = pore_contact::second_field(P.nx[p], P.ny[p], g.nnx[i], g.nny[i]);
-              i += second ? static_cast<std::ptrdiff_t>(g.field2) : 0;
+              const NodeNormal nn = normals[i];
+              const bool second = pore_contact::second_field(pnx, pny, nn.x, nn.y);
+              i += second ? field2 : 0;
+              bits |= static_cast<unsigned>(second) << (3 * b + a);
             }
             if constexpr (kAvx2) {
               Lanes n;
@@ -149,33 +233,32 @@ struct Scatter {
               nodes[i].vy += sb.sxy[k] * gx + sb.syy[k] * gy;
             }
             if constexpr (!kApic) {
-              out.mx[i] += wa * sb.wy[b][k] * sb.mvx[k];
-              out.my[i] += wa * sb.wy[b][k] * sb.mvy[k];
+              mx[i] += wa * sb.wy[b][k] * sb.mvx[k];
+              my[i] += wa * sb.wy[b][k] * sb.mvy[k];
             }
           }
         }
+        if constexpr (kSplit) to.field_bits[b0 + k] = static_cast<std::uint16_t>(bits);
       }
     }
   }
 };
 
-// The node normals of split_fields: sum of w_ip n_p (pore_contact.hpp).
-void scatter_normals(const Particles& P, Grid& g) {
-  const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
-  const std::size_t hi = static_cast<std::size_t>(g.row_hi) * g.nx;
-  std::fill(g.nnx.begin() + lo, g.nnx.begin() + hi, 0.0);
-  std::fill(g.nny.begin() + lo, g.nny.begin() + hi, 0.0);
+// The node normals of split_fields: sum of w_ip n_p (pore_contact.hpp), particles [begin, end).
+void scatter_normals(const Particles& P, const Grid& g, Targets to, std::size_t begin,
+                     std::size_t end) {
   const double gxo = g.gx, gyo = g.gy;
-  for (std::size_t p = 0; p < P.n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     const auto kx = kernel::quadratic(P.x[p] * g.inv_dx + gxo);
     const auto ky = kernel::quadratic(P.y[p] * g.inv_dx + gyo);
+    NodeArrays& out = to.alone == nullptr || to.alone[ky.base] ? *to.grid : *to.own;
     for (int b = 0; b < 3; ++b) {
       const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(ky.base + b) * g.nx;
       for (int a = 0; a < 3; ++a) {
         const std::ptrdiff_t i = row + g.col[kx.base + 1 + a];
         const double w = kx.w[a] * ky.w[b];
-        g.nnx[i] += w * P.nx[p];
-        g.nny[i] += w * P.ny[p];
+        out.normal[i].x += w * P.nx[p];
+        out.normal[i].y += w * P.ny[p];
       }
     }
   }
@@ -185,43 +268,54 @@ void scatter_normals(const Particles& P, Grid& g) {
 
 void p2g(State& s, double dt, ThreadPool& pool) {
   Grid& g = s.grid;
-  const bool apic = s.setup.transfer == Transfer::apic;
-  const std::size_t n = s.particles.n;
-  if (s.setup.split_fields) {  // apic and mls (validate()); one thread
-    clear_rows(g, g.arrays, false);
-    const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx + g.field2;
-    const std::size_t hi = static_cast<std::size_t>(g.row_hi) * g.nx + g.field2;
-    std::fill(g.arrays.nodes.begin() + lo, g.arrays.nodes.begin() + hi, Node{0, 0, 0, 0});
-    scatter_normals(s.particles, g);
-    run_variant<Scatter<true, false, true>>(s.particles, s.setup, g, g.arrays, std::size_t{0},
-                                            n, dt);
-    return;
-  }
-  pool.run([&](int t) {
-    NodeArrays& out = t == 0 ? g.arrays : g.scratch[t - 1];
-    clear_rows(g, out, !apic);
-    const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
-    run_loop<Scatter>(s.setup.transfer, s.setup.gradient, s.particles, s.setup, g, out, b, e, dt);
-  });
-  if (pool.size() == 1) return;
-  // Sum the threads' arrays into the grid, each thread a share of the rows, in a fixed order
-  // (thread 1, 2, ...) so that results do not depend on timing.
+  const Particles& P = s.particles;
+  const bool split = s.setup.split_fields;  // apic and mls (validate())
+  const bool threads = pool.size() > 1;
+  const std::size_t n = P.n;
+  ScatterRows& rows = g.scatter_rows;
   const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
   const std::size_t count = static_cast<std::size_t>(g.row_hi - g.row_lo) * g.nx;
+  const int row_count = g.row_hi - g.row_lo;
+  std::uint16_t* bits = s.particles.field_bits.data();
+  auto targets = [&](int t) {
+    return t == 0 ? Targets{&g.arrays, &g.arrays, nullptr, bits}
+                  : Targets{&g.arrays, &g.scratch[t - 1], rows.alone.data(), bits};
+  };
+  // 1. The grid's rows zeroed, a share each; the rows each thread's particles reach.
   pool.run([&](int t) {
-    const std::size_t b = lo + pool.begin(count, t), e = lo + pool.end(count, t);
-    for (const NodeArrays& src : g.scratch) {
-      for (std::size_t i = b; i < e; ++i) {
-        Node& d = g.arrays.nodes[i];
-        d.m += src.nodes[i].m, d.vx += src.nodes[i].vx, d.vy += src.nodes[i].vy;
-      }
-      if (!apic) {
-        for (std::size_t i = b; i < e; ++i) {
-          g.arrays.mx[i] += src.mx[i];
-          g.arrays.my[i] += src.my[i];
-        }
-      }
+    clear_nodes(g, g.arrays, lo + pool.begin(count, t), lo + pool.end(count, t));
+    if (threads) reach(P, g, pool.begin(n, t), pool.end(n, t), rows.lo[t], rows.hi[t]);
+  });
+  if (threads) rows.plan(g.row_lo, g.row_hi);
+  // 2. split_fields: the node normals, which pick the field of each particle-node pair.
+  if (split) {
+    pool.run([&](int t) {
+      if (t > 0) clear_near_rows(g, g.scratch[t - 1], rows, t);
+      scatter_normals(P, g, targets(t), pool.begin(n, t), pool.end(n, t));
+    });
+    if (threads) {
+      pool.run([&](int t) {
+        sum_scratch(g, g.row_lo + static_cast<int>(pool.begin(row_count, t)),
+                    g.row_lo + static_cast<int>(pool.end(row_count, t)), true);
+      });
     }
+  }
+  // 3. Mass and momentum, then the threads' scratch summed in, in a fixed order (thread 1,
+  // 2, ...), so that results do not depend on timing.
+  pool.run([&](int t) {
+    if (t > 0 && !split) clear_near_rows(g, g.scratch[t - 1], rows, t);
+    const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
+    const Targets to = targets(t);
+    if (split) {
+      run_variant<Scatter<true, false, true>>(P, s.setup, g, to, b, e, dt);
+    } else {
+      run_loop<Scatter>(s.setup.transfer, s.setup.gradient, P, s.setup, g, to, b, e, dt);
+    }
+  });
+  if (!threads) return;
+  pool.run([&](int t) {
+    sum_scratch(g, g.row_lo + static_cast<int>(pool.begin(row_count, t)),
+                g.row_lo + static_cast<int>(pool.end(row_count, t)), false);
   });
 }
 

@@ -43,13 +43,13 @@ void build_grid(const SceneParams& p, Grid& g) {
     g.arrays.mx.assign(nodes, 0.0);
     g.arrays.my.assign(nodes, 0.0);
   }
-  g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
-  if (resolved_pore_contact(p) == PoreContact::split_fields) {  // P2G on one thread: no scratch
+  if (resolved_pore_contact(p) == PoreContact::split_fields) {
     g.field2 = nodes;
     g.arrays.nodes.assign(2 * nodes, Node{0, 0, 0, 0});
-    g.nnx.assign(nodes, 0.0);
-    g.nny.assign(nodes, 0.0);
+    g.arrays.normal.assign(nodes, NodeNormal{0, 0});
   }
+  g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
+  g.scatter_rows.resize(p.threads, g.ny);
 }
 
 // The unit normal of the pore face nearest to (px, py) in unit cell (cx, cy), pointing from the
@@ -165,6 +165,7 @@ Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
   P.tau.assign(P.n, Sym2{0, 0, 0});
   P.dep.assign(P.n, 0.0);
   P.ep.assign(P.n, 0.0);
+  if (su.split_fields) P.field_bits.assign(P.n, 0);
   return P;
 }
 

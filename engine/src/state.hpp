@@ -9,6 +9,7 @@
 #include "compaction/params.hpp"
 #include "matrix.hpp"
 #include "plasticity.hpp"
+#include "scatter_rows.hpp"
 
 namespace compaction {
 
@@ -31,6 +32,9 @@ struct Particles {
   // split_fields only (else empty): the unit normal of the nearest pore face, pointing from
   // the pore into the solid, carried with the material (pore_contact.hpp)
   std::vector<double> nx, ny;
+  // split_fields only: bit 3 b + a set when p2g put the particle's pair with stencil node
+  // (a, b) into the node's second field, so that g2p reads the same field without the test
+  std::vector<std::uint16_t> field_bits;
 };
 
 // Grid node: mass and momentum (after the grid update: velocity in vx, vy).
@@ -38,10 +42,17 @@ struct Node {
   double m, vx, vy, pad_;
 };
 
+// A node's normal (split_fields): its two components side by side, one cache line for four
+// nodes, as P2G reads and writes them together.
+struct NodeNormal {
+  double x, y;
+};
+
 // Node arrays that P2G scatters into: one set for the grid, one more per extra thread.
 struct NodeArrays {
   std::vector<Node> nodes;          // nodes[j * nx + i]
   std::vector<double> mx, my;       // pic_flip only: momentum before forces (for v_old)
+  std::vector<NodeNormal> normal;   // split_fields only: the node normal, sum of w n_p
 };
 
 struct Grid {
@@ -52,13 +63,12 @@ struct Grid {
   std::vector<int> col;     // col[base + 1 + k]: node column of stencil column base + k
   NodeArrays arrays;                  // after the grid update: velocities, in place
   std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
+  ScatterRows scatter_rows;           // the rows each P2G thread writes alone (T > 1)
   int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
   int cells_x = 0, cells_y = 0;  // grid cells across and along the specimen (map rows: cells_y)
-  // split_fields only: arrays.nodes holds two fields, the second (particles whose normal
-  // opposes the node's) from this offset on, so that the transfers pick a field by index; and
-  // the node normal, sum of w n_p (else empty). 0 with one field.
+  // split_fields only: nodes holds two fields, the second (particles whose normal opposes the
+  // node's) from this offset on, so that the transfers pick a field by index. 0 with one field.
   std::size_t field2 = 0;
-  std::vector<double> nnx, nny;
 };
 
 // Constants of the scene that the stages need.

@@ -2,51 +2,57 @@
 
 namespace compaction {
 
+namespace {
+
+// Waits until value != old: spins for ThreadPool::kSpin, then sleeps on the atomic.
+template <typename T>
+T wait_change(const std::atomic<T>& value, T old) {
+  T now = value.load(std::memory_order_acquire);
+  if (now != old) return now;
+  const auto until = std::chrono::steady_clock::now() + ThreadPool::kSpin;
+  for (unsigned i = 1; (now = value.load(std::memory_order_acquire)) == old; ++i) {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+    if (i % 64 == 0 && std::chrono::steady_clock::now() > until) {
+      value.wait(old, std::memory_order_acquire);
+    }
+  }
+  return now;
+}
+
+}  // namespace
+
 ThreadPool::ThreadPool(int threads) : size_(threads < 1 ? 1 : threads) {
   for (int i = 1; i < size_; ++i) workers_.emplace_back([this, i] { loop(i); });
 }
 
 ThreadPool::~ThreadPool() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  start_.notify_all();
+  stop_.store(true, std::memory_order_relaxed);
+  generation_.fetch_add(1, std::memory_order_release);
+  generation_.notify_all();
   for (auto& w : workers_) w.join();
 }
 
 void ThreadPool::run_erased(void (*call)(void*, int), void* fn) {
-  {
-    std::lock_guard lock(mutex_);
-    call_ = call;
-    fn_ = fn;
-    pending_ = size_ - 1;
-    ++generation_;
-  }
-  start_.notify_all();
+  call_ = call;
+  fn_ = fn;
+  pending_.store(size_ - 1, std::memory_order_relaxed);
+  generation_.fetch_add(1, std::memory_order_release);
+  generation_.notify_all();
   call(fn, 0);
-  std::unique_lock lock(mutex_);
-  done_.wait(lock, [this] { return pending_ == 0; });
+  for (int left = pending_.load(std::memory_order_acquire); left != 0;) {
+    left = wait_change(pending_, left);
+  }
 }
 
 void ThreadPool::loop(int index) {
-  std::size_t seen = 0;
+  unsigned seen = 0;  // generation_ at construction, before any run
   for (;;) {
-    void (*call)(void*, int);
-    void* fn;
-    {
-      std::unique_lock lock(mutex_);
-      start_.wait(lock, [&] { return stop_ || generation_ != seen; });
-      if (stop_) return;
-      seen = generation_;
-      call = call_;
-      fn = fn_;
-    }
-    call(fn, index);
-    {
-      std::lock_guard lock(mutex_);
-      if (--pending_ == 0) done_.notify_one();
-    }
+    seen = wait_change(generation_, seen);
+    if (stop_.load(std::memory_order_relaxed)) return;
+    call_(fn_, index);
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) pending_.notify_one();
   }
 }
 

@@ -4,8 +4,10 @@
 // from each other's velocity, and the fields merged once the gap is closed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "kernel.hpp"
 #include "pore_contact.hpp"
 #include "scene_builder.hpp"
 #include "stages.hpp"
@@ -98,6 +100,55 @@ TEST(PoreContactGtest, TheTwoFieldsOfANodeHoldWhatOneFieldHolds) {
   }
   // The strut's and the bars' halves meet inside the solid: their nodes carry both fields.
   EXPECT_GT(both, 0);
+}
+
+// With threads, each thread scatters its share of the normals and of the fields into its own
+// rows or its scratch (engine/src/scatter_rows.hpp): both fields and the normals are the serial
+// ones to round-off, and every particle's field bits name the field that the pair's test
+// picks, which g2p then reads without testing again.
+TEST(PoreContactGtest, ThreadsFillTheTwoFieldsAsOneThreadDoes) {
+  State a = build_scene(porous(PoreContact::split_fields));
+  State b = build_scene(porous(PoreContact::split_fields));
+  stir(a), stir(b);
+  b.grid.scratch.assign(1, b.grid.arrays);
+  b.grid.scatter_rows.resize(2, b.grid.ny);
+  ThreadPool one(1), two(2);
+  p2g(a, 1e-6, one);
+  p2g(b, 1e-6, two);
+  const auto& na = a.grid.arrays.nodes;
+  const auto& nb = b.grid.arrays.nodes;
+  double m_scale = 0, p_scale = 0;
+  for (const Node& n : na) {
+    m_scale = std::max(m_scale, n.m), p_scale = std::max(p_scale, std::hypot(n.vx, n.vy));
+  }
+  for (std::size_t k = 0; k < na.size(); ++k) {  // both fields
+    ASSERT_NEAR(na[k].m, nb[k].m, 1e-14 * m_scale) << k;
+    ASSERT_NEAR(na[k].vx, nb[k].vx, 1e-13 * p_scale) << k;
+    ASSERT_NEAR(na[k].vy, nb[k].vy, 1e-13 * p_scale) << k;
+  }
+  for (std::size_t k = 0; k < a.grid.arrays.normal.size(); ++k) {
+    ASSERT_NEAR(a.grid.arrays.normal[k].x, b.grid.arrays.normal[k].x, 1e-13) << k;
+    ASSERT_NEAR(a.grid.arrays.normal[k].y, b.grid.arrays.normal[k].y, 1e-13) << k;
+  }
+  const Grid& g = b.grid;
+  const Particles& P = b.particles;
+  int second = 0;
+  for (std::size_t p = 0; p < P.n; ++p) {
+    const auto kx = kernel::quadratic(P.x[p] * g.inv_dx + g.gx);
+    const auto ky = kernel::quadratic(P.y[p] * g.inv_dx + g.gy);
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        const std::size_t node =
+            static_cast<std::size_t>(ky.base + j) * g.nx + g.col[kx.base + 1 + i];
+        const bool test = pore_contact::second_field(P.nx[p], P.ny[p], g.arrays.normal[node].x,
+                                                      g.arrays.normal[node].y);
+        ASSERT_EQ(test, ((P.field_bits[p] >> (3 * j + i)) & 1u) != 0) << p;
+        ASSERT_EQ(P.field_bits[p], a.particles.field_bits[p]) << p;
+        second += test;
+      }
+    }
+  }
+  EXPECT_GT(second, 0);  // the strut's halves: some pairs go into the second field
 }
 
 // A solid column cut by a horizontal gap: the block below moves up, the one above down, as two
