@@ -12,23 +12,25 @@ usage: bench/threads/before_after.py --before BIN --after BIN [--rounds 3] [--ou
 """
 import argparse
 import filecmp
-import json
 import os
 import statistics
 import subprocess
 import sys
 import tempfile
 
-SCENE = ["--cells-per-unit", "40", "--eps-end", "0.002", "--snapshot-eps", "", "--movie-d-eps",
-         "0", "--progress", "none"]
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+
+SCENE = {"cells_per_unit": 40, "eps_end": 0.002, "snapshot_eps": "", "movie_d_eps": 0}
 CASES = [(contact, threads) for contact in ("single_field", "split_fields") for threads in (1, 2)]
 STAGES = ("p2g", "grid_update", "g2p")
 
 
 def run(binary, contact, threads, out):
-    cmd = [binary, *SCENE, "--pore-contact", contact, "--threads", str(threads), "--out", out]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    s = json.load(open(os.path.join(out, "summary.json")))
+    flags = {**SCENE, "pore_contact": contact, "threads": threads}  # the last --threads wins
+    subprocess.run(runs.command(out, flags, run=binary), check=True, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL)
+    s = runs.summary(out)
     per = 1e9 / (s["steps"] * s["n_particles"])
     row = {"total": s["ns_per_particle_step"], "particles": s["n_particles"]}
     row.update({k: s["stage_seconds"][k] * per for k in STAGES})

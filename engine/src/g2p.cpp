@@ -129,6 +129,14 @@ template <bool kApic, bool kExact, bool kSplit>
   }
 }
 
+// The measures of no particle, which combine() with any others gives those others.
+StepMeasure no_particles() {
+  StepMeasure m;
+  m.y_min = m.x_min = std::numeric_limits<double>::infinity();
+  m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+  return m;
+}
+
 // The gather into particles [begin, end), one block at a time (run_loop in simd_dispatch.hpp
 // makes its variants and copies; both copies run the same code).
 template <bool kApic, bool kExact, bool kSplit = false>
@@ -145,9 +153,7 @@ struct Gather {
                         g.periodic_x ? s.width : 0.0,
                         g.periodic_x ? s.width : std::numeric_limits<double>::infinity(),
                         s.flip_ratio};
-    StepMeasure m;
-    m.y_min = m.x_min = std::numeric_limits<double>::infinity();
-    m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+    StepMeasure m = no_particles();
     ReturnMapBlock blk;  // the block's trial Fe in; Fe, tau and the plastic increment out
     GatherBlock gb;      // positions and squared speeds, for the step's measures
     for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
@@ -211,9 +217,7 @@ void g2p(State& s, double dt, ThreadPool& pool) {
   const std::size_t n = s.particles.n;
   std::atomic<std::size_t> next{0};
   pool.run([&](int t) {
-    StepMeasure m;
-    m.y_min = m.x_min = std::numeric_limits<double>::infinity();
-    m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+    StepMeasure m = no_particles();
     for (std::size_t b; (b = next.fetch_add(kChunk, std::memory_order_relaxed)) < n;) {
       const std::size_t e = std::min(b + kChunk, n);
       const StepMeasure chunk =

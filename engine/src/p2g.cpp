@@ -33,6 +33,8 @@ struct Targets {
   NodeArrays* own;
   const std::uint8_t* alone;
   std::uint16_t* field_bits;
+  // Whether a particle whose stencil starts at row `base` goes into `own`.
+  bool to_own(int base) const { return alone != nullptr && !alone[base]; }
 };
 
 // Zeroes nodes [lo, hi) (and their second field) and the rows' other arrays, where a scene has
@@ -191,7 +193,7 @@ struct Scatter {
                                    P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
                                    P.tau.data() + b0, &sb);
       for (std::size_t k = 0; k < nb; ++k) {
-        const bool own = to.alone != nullptr && !to.alone[sb.base[k]];
+        const bool own = to.to_own(sb.base[k]);
         Node* const nodes = own ? own_nodes : grid_nodes;
         [[maybe_unused]] double* const mx = mxy[own][0];
         [[maybe_unused]] double* const my = mxy[own][1];
@@ -251,7 +253,7 @@ void scatter_normals(const Particles& P, const Grid& g, Targets to, std::size_t 
   for (std::size_t p = begin; p < end; ++p) {
     const auto kx = kernel::quadratic(P.x[p] * g.inv_dx + gxo);
     const auto ky = kernel::quadratic(P.y[p] * g.inv_dx + gyo);
-    NodeArrays& out = to.alone == nullptr || to.alone[ky.base] ? *to.grid : *to.own;
+    NodeArrays& out = to.to_own(ky.base) ? *to.own : *to.grid;
     for (int b = 0; b < 3; ++b) {
       const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(ky.base + b) * g.nx;
       for (int a = 0; a < 3; ++a) {

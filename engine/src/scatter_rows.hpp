@@ -37,13 +37,11 @@ struct ScatterRows {
       for (int r = std::max(lo[t], row_lo); r < std::min(hi[t], row_hi); ++r) ++count[r];
     }
     for (int r = row_lo; r < row_hi; ++r) {
-      const int a = std::max(r - 2, row_lo), b = std::min(r + 3, row_hi);
-      bool shared_near = false;
-      for (int k = a; k < b; ++k) shared_near |= count[k] > 1;
-      near[r] = shared_near;
-      const int top = std::min(r + 3, row_hi);
-      bool one = true;
+      const int top = std::min(r + 3, row_hi);  // rows r, r + 1, r + 2: a stencil based at r
+      bool shared_near = false, one = true;
+      for (int k = std::max(r - 2, row_lo); k < top; ++k) shared_near |= count[k] > 1;
       for (int k = r; k < top; ++k) one &= count[k] <= 1;
+      near[r] = shared_near;
       alone[r] = one;
     }
   }

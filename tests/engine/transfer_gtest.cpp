@@ -2,12 +2,12 @@
 // angular momentum of a spinning block and reproduces its affine velocity field exactly.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <utility>
 
 #include "scene_builder.hpp"
 #include "stages.hpp"
+#include "threaded_grid.hpp"
 
 namespace compaction {
 namespace {
@@ -116,32 +116,6 @@ TEST(TransferGtest, ApicRoundTripReproducesRigidRotationAndKeepsAngularMomentum)
     ASSERT_NEAR(P.C[k].yx, omega, 1e-10);
   }
   EXPECT_NEAR(particle_totals(s).L, before.L, 1e-12 * std::abs(before.L));
-}
-
-// Gives the scene's grid what a pool of `threads` needs (build_scene sizes it for p.threads).
-void size_for_threads(State& s, int threads) {
-  s.grid.scratch.assign(static_cast<std::size_t>(threads - 1), s.grid.arrays);
-  s.grid.scatter_rows.resize(threads, s.grid.ny);
-}
-
-// Every node of b holds what a's holds, to round-off of the node's own scale.
-void expect_same_nodes(const State& a, const State& b) {
-  const auto& na = a.grid.arrays.nodes;
-  const auto& nb = b.grid.arrays.nodes;
-  ASSERT_EQ(na.size(), nb.size());
-  double m_scale = 0, p_scale = 0;
-  for (const Node& n : na) {
-    m_scale = std::max(m_scale, n.m), p_scale = std::max(p_scale, std::hypot(n.vx, n.vy));
-  }
-  for (std::size_t i = 0; i < na.size(); ++i) {
-    ASSERT_NEAR(na[i].m, nb[i].m, 1e-14 * m_scale) << i;
-    ASSERT_NEAR(na[i].vx, nb[i].vx, 1e-13 * p_scale) << i;
-    ASSERT_NEAR(na[i].vy, nb[i].vy, 1e-13 * p_scale) << i;
-  }
-  for (std::size_t i = 0; i < a.grid.arrays.mx.size(); ++i) {
-    ASSERT_NEAR(a.grid.arrays.mx[i], b.grid.arrays.mx[i], 1e-13 * p_scale) << i;
-    ASSERT_NEAR(a.grid.arrays.my[i], b.grid.arrays.my[i], 1e-13 * p_scale) << i;
-  }
 }
 
 // Threads scatter their own rows into the grid and shared rows into scratch
