@@ -1,9 +1,10 @@
-// Engine speed on the reference scene: pseudo-1D, phi = 0.4, 20 cells per
-// unit cell, 2 x 2 particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one
-// thread unless the benchmark says otherwise; and on the large scene, the same column at 40 cells
-// per unit cell (86 904 particles, the `reference` preset's grid at phi = 0.4), ~1600 steps (eps
-// 0 -> 0.002), on one and two threads. Reports ns per particle-step (time-stepping loop only,
-// scene building excluded) and its split by stage. Run it with bench/run_engine_bench.sh.
+// Engine speed on the reference scene: pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2
+// particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one thread unless the
+// benchmark says otherwise; on the large scene, the same column at 40 cells per unit cell
+// (86 904 particles, the `reference` preset's grid at phi = 0.4), ~1600 steps (eps 0 -> 0.002),
+// on one and two threads; and on the 3D column at 8 cells per unit cell. Reports ns per
+// particle-step (time-stepping loop only, scene building excluded) and its split by stage. Run
+// it with bench/run_engine_bench.sh.
 #include <benchmark/benchmark.h>
 
 #include "compaction/simulation.hpp"
@@ -101,6 +102,18 @@ void BM_LargeScene_ApicSplitFields_2Threads(benchmark::State& state) {
   run(state, large_scene(compaction::PoreContact::split_fields, 2));
 }
 
+// The 3D column (geometry = pseudo1d_3d: one unit cell across in x and z) at 8 cells per unit
+// cell, 2 x 2 x 2 particles per cell (55 296 particles), eps 0 -> 0.002 (about 330 steps), on
+// the one thread it runs.
+void BM_Column3D_Apic_1Thread(benchmark::State& state) {
+  auto p = reference_scene();
+  p.geometry = compaction::Geometry::pseudo1d_3d;
+  p.cells_per_unit = 8;
+  p.eps_end = 0.002;
+  p.movie_d_eps = 0;
+  run(state, p);
+}
+
 }  // namespace
 
 BENCHMARK(BM_ReferenceScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -113,5 +126,6 @@ BENCHMARK(BM_LargeScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations
 BENCHMARK(BM_LargeScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_LargeScene_ApicSplitFields_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_LargeScene_ApicSplitFields_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Column3D_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK_MAIN();

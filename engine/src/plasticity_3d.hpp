@@ -12,17 +12,18 @@
 // (d_e - d_y) / sqrt(2)). The elastic correction is Fe <- Q diag(exp(dev_new_i - dev_i)) Q^T Fe
 // (left stretch scaled, rotation kept).
 //
-// The eigen-decomposition is Eigen's iterative one (SelfAdjointEigenSolver::compute:
-// Householder tridiagonalisation, implicit symmetric QR), backward stable: eigenvalues to a few
-// ulp of |b| ~ 1, so strains to ~1e-16. Not computeDirect, its closed form (roots of the
-// characteristic cubic by acos): where two eigenvalues nearly coincide, which is every state of
-// a column compressed along y with x and z alike, acos near +-1 loses half the digits, and the
-// deviatoric strain came out 2e-9 off relative to itself (plasticity_3d_gtest's uniaxial stress
-// path failed at 1e-10 with it). Both cost ~230 ns per call here (g++ -O2, 1e6 calls).
+// b is decomposed by cyclic Jacobi rotations (sym_eigen_3d.hpp): eigenvalues to a few ulp of
+// |b| ~ 1, so strains to ~1e-16, also where two eigenvalues coincide, as in every state of a
+// column compressed along y with x and z alike (the closed form by the characteristic cubic,
+// Eigen's computeDirect, loses half its digits there: the uniaxial stress path of
+// plasticity_3d_gtest came out 2e-9 off with it). bench/return_map_bench.cpp measures it
+// against Eigen's iterative solver.
 #pragma once
 
 #include <Eigen/Dense>
 #include <cmath>
+
+#include "sym_eigen_3d.hpp"
 
 namespace compaction {
 
@@ -41,9 +42,9 @@ struct Material3D {
 inline double return_map_3d(Mat3& fe, const Material3D& m, Mat3& tau) {
   const double J = fe.determinant();
   if (!(J > 0.0) || !fe.allFinite()) return std::nan("");
-  const Eigen::SelfAdjointEigenSolver<Mat3> eig(fe * fe.transpose());
-  const Vec3 l = eig.eigenvalues();
-  const Mat3& q = eig.eigenvectors();
+  const SymEigen3 eig = sym_eigen_3d(fe * fe.transpose());
+  const Vec3& l = eig.l;
+  const Mat3& q = eig.q;
   const double log_j = std::log(J);  // tr(e), from det(Fe) rather than the rounded l_i
   Vec3 e(0.5 * std::log(l(0)), 0.5 * std::log(l(1)), 0.5 * std::log(l(2)));
   const Vec3 dev = e.array() - e.sum() / 3.0;
