@@ -30,7 +30,17 @@ from examples import EXAMPLES, PHI  # noqa: E402
 
 BASE = {"phi": PHI, "eps_end": 0.2, "snapshot_eps": "", "movie_d_eps": 0,
         "pore_contact": "single_field"}
-GEOMETRIES = {"2D pseudo-1D": "pseudo1d", "3D": "pseudo1d_3d"}
+STRUT_2D = 1 - (1 - PHI) ** 0.5        # strut / L between square holes
+STRUT_3D = 1 - (1 - PHI) ** (1 / 3)    # strut / L between cubic holes
+# Each grid of --cells-per-unit runs three ways: label -> (geometry, the grid it runs at). The
+# third is the 2D column at the grid that resolves its strut as the 3D grid resolves the 3D
+# strut (the nearest whole number of cells per unit cell).
+GEOMETRIES = {
+    "2D pseudo-1D": ("pseudo1d", lambda cells: cells),
+    "2D pseudo-1D, the 3D strut's resolution": (
+        "pseudo1d", lambda cells: max(2, round(cells * STRUT_3D / STRUT_2D))),
+    "3D": ("pseudo1d_3d", lambda cells: cells),
+}
 SAME_SPEED = 0.05  # |c_b/V 3D / 2D - 1| the summary counts as the same band speed
 
 
@@ -44,7 +54,7 @@ def scene(example, geometry, cells):
 
 
 def name(example, geometry, cells):
-    return "%s-%s-%g" % (example, geometry, cells)
+    return "%s-%s-%d" % (example, geometry, cells)
 
 
 def plateau(bundle):
@@ -70,9 +80,15 @@ def reading(bundle, classify_bin):
             "steps": s["steps"], "status": s["status"], "revision": s.get("source_revision")}
 
 
+def runs_of(examples, cells_list):
+    """{(example, cells, label): (bundle name, flags)} of every run the study makes."""
+    return {(ex, cells, g): (name(ex, geo, grid(cells)), scene(ex, geo, grid(cells)))
+            for ex in examples for cells in cells_list for g, (geo, grid) in GEOMETRIES.items()}
+
+
 def report(a, examples, cells_list, classify_bin):
-    got = {(ex, cells, g): reading(os.path.join(a.work, name(ex, geo, cells)), classify_bin)
-           for ex in examples for cells in cells_list for g, geo in GEOMETRIES.items()}
+    got = {key: reading(os.path.join(a.work, bundle), classify_bin)
+           for key, (bundle, _) in runs_of(examples, cells_list).items()}
     revision = ", ".join(sorted({r["revision"] or "unknown" for r in got.values() if r})) or "-"
     lines = ["# The 3D column against the pseudo-1D 2D one (phi = 0.4)", "",
              "Made by `bench/validation/column_3d.py %s` (engine %s). Examples (a) and (b) of the "
@@ -80,7 +96,10 @@ def report(a, examples, cells_list, classify_bin):
              "c_b/V in both readings (fit: slope of the leading edge before its first turn; "
              "transit: mean speed of the first leg; docs/classifier.md) with their uncertainty; "
              "plateau: the median top-plate stress over q_y in the second half of the run; "
-             "\"3D against 2D\" is the 3D transit reading over the 2D one at the same grid. "
+             "\"3D against 2D\" is the 3D transit reading over the 2D one at the same grid; the "
+             "third row of each pair runs 2D at the grid that resolves the square holes' strut "
+             "as the 3D grid resolves the cubic holes' (L (1 - sqrt(1 - phi)) against "
+             "L (1 - (1 - phi)^(1/3))). "
              "Wall times are of runs that shared the 2 cores with other work."
              % (" ".join(sys.argv[1:]), revision), "",
              "| example | grid [cells / unit] | geometry | cells across the strut | label (confidence) "
@@ -90,12 +109,13 @@ def report(a, examples, cells_list, classify_bin):
     missing, compared, same = [], 0, 0
     for ex in examples:
         for cells in cells_list:
-            ref = got[(ex, cells, "2D pseudo-1D")]
-            for g in GEOMETRIES:
+            ref = got[(ex, cells, "2D pseudo-1D")]  # the same grid
+            for g, (_, grid) in GEOMETRIES.items():
                 r = got[(ex, cells, g)]
                 if r is None:
-                    missing.append("(%s) %s at %g cells" % (ex, g, cells))
-                    lines.append("| (%s) | %g | %s | not run yet | | | | | | | | | | |" % (ex, cells, g))
+                    missing.append("(%s) %s at %d cells" % (ex, g, grid(cells)))
+                    lines.append("| (%s) | %d | %s | not run yet | | | | | | | | | | |"
+                                 % (ex, grid(cells), g))
                     continue
                 vs = "-"
                 if g == "3D" and ref is not None and r["transit"] and ref["transit"]:
@@ -103,9 +123,9 @@ def report(a, examples, cells_list, classify_bin):
                     vs = "%+.1f %%" % (100 * ratio)
                     compared += 1
                     same += abs(ratio) <= SAME_SPEED and r["label"] == ref["label"]
-                lines.append("| (%s) | %g | %s | %s | %s (%s) | %s | %s +- %s | %s +- %s | %s | %s "
+                lines.append("| (%s) | %d | %s | %s | %s (%s) | %s | %s +- %s | %s +- %s | %s | %s "
                              "| %d | %d | %.0f | %.0f |" % (
-                                 ex, cells, g, fmt(r["strut"]), r["label"], fmt(r["confidence"], 2),
+                                 ex, grid(cells), g, fmt(r["strut"]), r["label"], fmt(r["confidence"], 2),
                                  fmt(r["n_r"]), fmt(r["fit"]), fmt(r["fit_err"], 2),
                                  fmt(r["transit"]), fmt(r["transit_err"], 2), vs,
                                  fmt(r["plateau"]), r["particles"], r["steps"], r["ns"], r["wall"]))
@@ -128,9 +148,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "column-3d.md"))
     a = ap.parse_args()
     try:
-        cells_list = [float(c) for c in a.cells_per_unit.split(",") if c]
+        cells_list = [int(c) for c in a.cells_per_unit.split(",") if c]
     except ValueError:
-        ap.error("--cells-per-unit: a comma list of numbers, got %r" % a.cells_per_unit)
+        ap.error("--cells-per-unit: a comma list of whole numbers, got %r" % a.cells_per_unit)
     if not cells_list or min(cells_list) < 2:
         ap.error("--cells-per-unit: grids of at least 2 cells per unit cell, got %r" % a.cells_per_unit)
     examples = [e for e in a.examples.split(",") if e]
@@ -143,7 +163,7 @@ def main():
     classify_bin = os.path.join(a.bin, "compaction-classify")
     for ex in examples:
         for cells in cells_list:
-            group = {name(ex, geo, cells): scene(ex, geo, cells) for geo in GEOMETRIES.values()}
+            group = dict(v for k, v in runs_of([ex], [cells]).items())
             runs.run_all(a.work, group, jobs=a.jobs, run=run)
             report(a, examples, cells_list, classify_bin)
 

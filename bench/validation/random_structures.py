@@ -3,7 +3,8 @@
 significantly from the regular structure of the same porosity.
 
 The six examples (bench/lib/examples.py, phi = 0.4, pseudo-1D, to full density eps = 0.6, the
-`default` preset's 4.5 cells across the regular strut) on the regular structure and on random
+`default` preset's grid of 4.5 cells across the regular strut or that of --cells-per-strut, one
+velocity field) on the regular structure and on random
 structures of --seeds (structure = random: void areas and centres drawn from the seed,
 random_structure in engine/include/compaction/params.hpp, docs/engine.md). It writes, per
 example, the label with its confidence, N_r and both readings of c_b/V (docs/classifier.md) of
@@ -25,7 +26,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 from examples import EXAMPLES, PHI  # noqa: E402
 
-CELLS_PER_STRUT = 4.5  # the default preset (server/presets.cpp)
+CELLS_PER_STRUT = 4.5  # the default preset's grid (server/presets.cpp), the study's default
 SAME_SPEED = 0.10      # |c_b/V / regular - 1| the summary counts as the same band speed
 
 
@@ -33,17 +34,19 @@ def fmt(v, digits=3):
     return "-" if v is None else "%.*g" % (digits, v)
 
 
-def scene(example, seed=None):
+def scene(example, seed=None, cells_per_strut=CELLS_PER_STRUT):
     S, R = EXAMPLES[example]
-    flags = {"S": S, "R": R, "phi": PHI, "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - PHI,
+    flags = {"S": S, "R": R, "phi": PHI, "cells_per_strut": cells_per_strut, "eps_end": 1 - PHI,
              "snapshot_eps": ""}
     if seed is not None:
         flags.update(structure="random", seed=seed)
     return flags
 
 
-def name(example, seed=None):
-    return "%s-regular" % example if seed is None else "%s-random-seed%d" % (example, seed)
+def name(example, seed=None, cells_per_strut=CELLS_PER_STRUT):
+    """The bundle's folder; runs on another grid than the default carry it in the name."""
+    base = "%s-regular" % example if seed is None else "%s-random-seed%d" % (example, seed)
+    return base if cells_per_strut == CELLS_PER_STRUT else "%s-cps%g" % (base, cells_per_strut)
 
 
 def reading(bundle, classify_bin):
@@ -57,6 +60,7 @@ def reading(bundle, classify_bin):
             "n_r": c.get("n_reflections"), "fit": f.get("band_speed_ratio"),
             "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
             "transit_err": f.get("band_speed_transit_error"), "phi": s["phi_discrete"],
+            "origin": f.get("primary_origin") or "-",
             "wall": s["wall_seconds"], "status": s["status"]}
 
 
@@ -67,21 +71,28 @@ def against(v, ref):
 
 
 def report(a, examples, seeds, classify_bin):
-    work = lambda ex, seed=None: os.path.join(a.work, name(ex, seed))  # noqa: E731
-    lines = ["# Random structures against the regular one (phi = 0.4, default preset)", "",
+    def work(ex, seed=None):
+        return os.path.join(a.work, name(ex, seed, a.cells_per_strut))
+    cells_per_unit = a.cells_per_strut / (1 - (1 - PHI) ** 0.5)
+    lines = ["# Random structures against the regular one (phi = 0.4, %g cells across the strut)"
+             % a.cells_per_strut, "",
              "Made by `bench/validation/random_structures.py %s`. The six examples of the paper, "
              "pseudo-1D (34 voids), to full density (eps = 0.6), %g cells across the regular "
-             "strut (20 cells per unit cell, the `default` preset), one thread per run, one run "
-             "at a time. Random structures: each void's area uniform in (1 -+ 0.3) x L^2 (1 - phi) "
+             "strut (%.0f cells per unit cell) and one velocity field (the runner's default "
+             "contact; the `default` preset has this grid and two fields, the `reference` preset "
+             "twice the cells), one thread per run. Random structures: each void's area uniform in (1 -+ 0.3) x L^2 (1 - phi) "
              "in antithetic pairs, its centre moved uniformly within the room that keeps half the "
              "thinnest strut (half the regular strut) to its cell's edges (docs/engine.md, "
              "\"Random structures\"). phi realised: the particles' solid fraction "
              "(phi_discrete of summary.json). c_b/V in both readings (fit: slope of the leading "
              "edge before its first turn; transit: mean speed of the first leg; "
              "docs/classifier.md) with their uncertainty; \"against regular\" is the transit "
-             "reading over the regular structure's." % (" ".join(sys.argv[1:]), CELLS_PER_STRUT), "",
-             "| example | structure | phi realised | label (confidence) | N_r | c_b/V fit | c_b/V transit | transit against regular | wall [s] |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "reading over the regular structure's; primary front from: where the primary front "
+             "starts (the strongest propagating front from the top plate, else the strongest; "
+             "top, bottom or interior: primary_origin of the features, docs/classifier.md)."
+             % (" ".join(sys.argv[1:]), a.cells_per_strut, cells_per_unit), "",
+             "| example | structure | phi realised | label (confidence) | N_r | primary front from | c_b/V fit | c_b/V transit | transit against regular | wall [s] |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     same_label = same_speed = compared = speeds = 0
     missing = []
     for ex in examples:
@@ -91,7 +102,7 @@ def report(a, examples, seeds, classify_bin):
             structure = "regular" if seed is None else "random, seed %d" % seed
             if r is None:
                 missing.append("(%s) %s" % (ex, structure))
-                lines.append("| (%s) | %s | not run yet | | | | | | |" % (ex, structure))
+                lines.append("| (%s) | %s | not run yet | | | | | | | |" % (ex, structure))
                 continue
             if seed is not None and ref is not None:
                 compared += 1
@@ -99,8 +110,8 @@ def report(a, examples, seeds, classify_bin):
                 if r["transit"] is not None and ref["transit"]:
                     speeds += 1
                     same_speed += abs(r["transit"] / ref["transit"] - 1) <= SAME_SPEED
-            lines.append("| (%s) | %s | %.4f | %s (%s) | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
-                ex, structure, r["phi"], r["label"], fmt(r["confidence"], 2), fmt(r["n_r"]),
+            lines.append("| (%s) | %s | %.4f | %s (%s) | %s | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
+                ex, structure, r["phi"], r["label"], fmt(r["confidence"], 2), fmt(r["n_r"]), r["origin"],
                 fmt(r["fit"]), fmt(r["fit_err"], 2), fmt(r["transit"]), fmt(r["transit_err"], 2),
                 "-" if seed is None or ref is None else against(r["transit"], ref["transit"]),
                 r["wall"]))
@@ -121,6 +132,9 @@ def main():
     ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "random-structures"))
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--cells-per-strut", type=float, default=CELLS_PER_STRUT,
+                    help="grid cells across the regular strut (default %g, the default preset's "
+                         "grid; 9: the reference preset's)" % CELLS_PER_STRUT)
     ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "random-structures.md"))
     a = ap.parse_args()
     try:
@@ -129,6 +143,8 @@ def main():
         ap.error("--seeds: a comma list of non-negative integers, got %r" % a.seeds)
     if not seeds or min(seeds) < 0:
         ap.error("--seeds: a comma list of non-negative integers, got %r" % a.seeds)
+    if not 1 <= a.cells_per_strut <= 50:
+        ap.error("--cells-per-strut: in [1, 50], got %g" % a.cells_per_strut)
     examples = [e for e in a.examples.split(",") if e]
     for e in examples:
         if e not in EXAMPLES:
@@ -139,7 +155,8 @@ def main():
     # then seed by seed, so that a study stopped early has whole comparisons of the examples it
     # reached.
     for e in sorted(examples, key=lambda e: 1 / EXAMPLES[e][0]):
-        group = {name(e, seed): scene(e, seed) for seed in [None] + seeds}
+        group = {name(e, seed, a.cells_per_strut): scene(e, seed, a.cells_per_strut)
+                 for seed in [None] + seeds}
         runs.run_all(a.work, group, jobs=a.jobs, run=run)
         report(a, examples, seeds, classify_bin)
 
