@@ -103,7 +103,7 @@ void BM_LargeScene_ApicSplitFields_2Threads(benchmark::State& state) {
 }
 
 // The 3D column (geometry = pseudo1d_3d: one unit cell across in x and z) at 8 cells per unit
-// cell, 2 x 2 x 2 particles per cell (55 296 particles), eps 0 -> 0.002 (about 330 steps), on
+// cell, 2 x 2 x 2 particles per cell (64 566 particles), eps 0 -> 0.002 (317 steps), on
 // the one thread it runs.
 void BM_Column3D_Apic_1Thread(benchmark::State& state) {
   auto p = reference_scene();

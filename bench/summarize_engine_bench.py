@@ -11,11 +11,12 @@ for b in data["benchmarks"]:
         continue
     rows[b["run_name"].replace("BM_", "").replace("/iterations:1", "")] = b
 
-print("# Engine benchmark: reference scene and large scene\n")
+print("# Engine benchmark: reference scene, large scene, 3D column\n")
 print("Reference scene: pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 particles per cell, "
       "S = 4e-3, R = 1e-5, eps 0 -> 0.008 (about 3200 steps). Large scene: the same column at 40 "
-      "cells per unit cell (86 904 particles), eps 0 -> 0.002 (about 1600 steps). "
-      "Medians of 5 repetitions.\n")
+      "cells per unit cell (86 904 particles), eps 0 -> 0.002 (about 1600 steps). 3D column: "
+      "geometry pseudo1d_3d at 8 cells per unit cell, 2 x 2 x 2 particles per cell (64 566 "
+      "particles), eps 0 -> 0.002 (317 steps). Medians of 5 repetitions.\n")
 print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}. "
       f"Engine built Release (-O3, x86-64 baseline, with an AVX2 copy of the particle loops that "
       f"runs where the processor has AVX2; both copies give the same bits, engine/src/"
