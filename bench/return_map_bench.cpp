@@ -62,7 +62,8 @@ void per_call(benchmark::State& state, std::size_t yielded) {
 void BM_ReturnMap2D(benchmark::State& state) {
   std::vector<compaction::Mat2> in(kStates);
   const auto s3 = states_3d();
-  for (std::size_t i = 0; i < kStates; ++i) in[i] = {s3[i](0, 0), s3[i](0, 1), s3[i](1, 0), s3[i](1, 1)};
+  for (std::size_t i = 0; i < kStates; ++i)
+    in[i] = {s3[i](0, 0), s3[i](0, 1), s3[i](1, 0), s3[i](1, 1)};
   const auto m = material_2d();
   compaction::Sym2 tau{};
   std::size_t yielded = 0;

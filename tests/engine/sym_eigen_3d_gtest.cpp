@@ -54,7 +54,8 @@ TEST(SymEigen3dGtest, RandomMatricesOfEverySpreadMatchEigen) {
   for (int i = 0; i < 20000; ++i) {
     // Eigenvalues of magnitude 10^[-3, 3], some negative, rotated at random.
     Vec3 l;
-    for (int k = 0; k < 3; ++k) l(k) = (rng.uniform() < 0.2 ? -1 : 1) * std::pow(10.0, 6 * rng.uniform() - 3);
+    for (int k = 0; k < 3; ++k)
+      l(k) = (rng.uniform() < 0.2 ? -1 : 1) * std::pow(10.0, 6 * rng.uniform() - 3);
     const Mat3 r = random_rotation(rng);
     const Mat3 a = r * l.asDiagonal() * r.transpose();
     expect_decomposes(0.5 * (a + a.transpose()));
