@@ -77,3 +77,20 @@ def classify(out, classify_bin=CLASSIFY):
     """The classifier's JSON for a bundle (recomputed: the classifier may be newer than the run)."""
     res = subprocess.run([classify_bin, "--compact", out], check=True, capture_output=True, text=True)
     return json.loads(res.stdout)
+
+
+def reading(out, classify_bin=CLASSIFY):
+    """What the studies report of one bundle: the classifier's label, confidence, N_r and both
+    readings of c_b/V with their uncertainty (docs/classifier.md), the wall time and status,
+    and the summary and features whole for a study's own columns; None when the bundle is not
+    finished."""
+    if not finished(out):
+        return None
+    s = summary(out)
+    c = classify(out, classify_bin)
+    f = c.get("features") or {}
+    return {"label": c.get("class") or "none", "confidence": c.get("confidence"),
+            "n_r": c.get("n_reflections"), "fit": f.get("band_speed_ratio"),
+            "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
+            "transit_err": f.get("band_speed_transit_error"), "wall": s["wall_seconds"],
+            "status": s["status"], "summary": s, "features": f}

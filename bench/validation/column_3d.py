@@ -66,18 +66,14 @@ def plateau(bundle):
 
 
 def reading(bundle, classify_bin):
-    if not runs.finished(bundle):
-        return None
-    s = runs.summary(bundle)
-    c = runs.classify(bundle, classify_bin)
-    f = c.get("features") or {}
-    return {"label": c.get("class") or "none", "confidence": c.get("confidence"),
-            "n_r": c.get("n_reflections"), "fit": f.get("band_speed_ratio"),
-            "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
-            "transit_err": f.get("band_speed_transit_error"), "plateau": plateau(bundle),
-            "strut": s.get("grid", {}).get("cells_per_strut"), "wall": s["wall_seconds"],
-            "ns": s["ns_per_particle_step"], "particles": s["n_particles"],
-            "steps": s["steps"], "status": s["status"], "revision": s.get("source_revision")}
+    """What the report shows of one run, or None when it is not made yet."""
+    r = runs.reading(bundle, classify_bin)
+    if r is not None:
+        s = r["summary"]
+        r.update(plateau=plateau(bundle), strut=s.get("grid", {}).get("cells_per_strut"),
+                 ns=s["ns_per_particle_step"], particles=s["n_particles"], steps=s["steps"],
+                 revision=s.get("source_revision"))
+    return r
 
 
 def runs_of(examples, cells_list):

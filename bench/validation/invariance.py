@@ -101,11 +101,7 @@ def main():
         base = None
         for i, (variant, (_, tolerance)) in enumerate(VARIANTS.items()):
             d = dirs[name(ex, cps, i)]
-            c = runs.classify(d, classify_bin)
-            f = c.get("features", {})
-            m = {"label": c.get("class"), "conf": c.get("confidence"), "fit": f.get("band_speed_ratio"),
-                 "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
-                 "transit_err": f.get("band_speed_transit_error"), "n_r": c.get("n_reflections")}
+            m = runs.reading(d, classify_bin)
             verdict = "-"
             if base is None:
                 base = m
@@ -119,9 +115,8 @@ def main():
                 if not ok:
                     failures[cps].append("(%s) %s" % (ex, variant))
             lines.append("| %s | %s (%s) | %s +- %s | %s +- %s | %s | %s | %.0f |" % (
-                variant, m["label"], fmt(m["conf"], 2), fmt(m["fit"]), fmt(m["fit_err"], 2),
-                fmt(m["transit"]), fmt(m["transit_err"], 2), m["n_r"], verdict,
-                runs.summary(d)["wall_seconds"]))
+                variant, m["label"], fmt(m["confidence"], 2), fmt(m["fit"]), fmt(m["fit_err"], 2),
+                fmt(m["transit"]), fmt(m["transit_err"], 2), m["n_r"], verdict, m["wall"]))
         lines.append("")
     figure = maps_figure(a, resolutions, examples, dirs, name)
     if figure:

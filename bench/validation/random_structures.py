@@ -51,17 +51,11 @@ def name(example, seed=None, cells_per_strut=CELLS_PER_STRUT):
 
 def reading(bundle, classify_bin):
     """What the report shows of one run, or None when it is not made yet."""
-    if not runs.finished(bundle):
-        return None
-    s = runs.summary(bundle)
-    c = runs.classify(bundle, classify_bin)
-    f = c.get("features") or {}
-    return {"label": c.get("class") or "none", "confidence": c.get("confidence"),
-            "n_r": c.get("n_reflections"), "fit": f.get("band_speed_ratio"),
-            "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
-            "transit_err": f.get("band_speed_transit_error"), "phi": s["phi_discrete"],
-            "origin": f.get("primary_origin") or "-",
-            "wall": s["wall_seconds"], "status": s["status"]}
+    r = runs.reading(bundle, classify_bin)
+    if r is not None:
+        r.update(phi=r["summary"]["phi_discrete"],
+                 origin=r["features"].get("primary_origin") or "-")
+    return r
 
 
 def against(v, ref):
