@@ -99,6 +99,13 @@ std::optional<Lease> QueueStore::lease(const std::string& worker, const std::str
                                      Millis now) {
   std::lock_guard lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
+  std::optional<Lease> l = claim(worker, engine_version, now);
+  if (l) tx.commit();
+  return l;
+}
+
+std::optional<Lease> QueueStore::claim(const std::string& worker, const std::string& engine_version,
+                                     Millis now) {
   const std::string token = new_token();
   // One atomic claim of the best queued job.
   auto s = db_.writer.prepare(
@@ -114,7 +121,6 @@ std::optional<Lease> QueueStore::lease(const std::string& worker, const std::str
           static_cast<int>(s.int64(4))};
   s.run();
   log_event(db_.writer, l.job_id, now, "leased", l.attempt, worker, "");
-  tx.commit();
   return l;
 }
 
@@ -124,6 +130,16 @@ LeaseCheck QueueStore::check_lease(std::int64_t job_id, const std::string& token
   auto s = db->prepare("SELECT 1 FROM jobs WHERE id = ? AND state = 'running' AND lease_token = ?");
   s.bind(1, job_id).bind(2, token);
   return s.step() ? LeaseCheck::ok : missing_or_lost(*db, job_id);
+}
+
+QueueStore::LeasedJob QueueStore::leased_job(std::int64_t job_id, const std::string& token) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(
+      "SELECT scene, engine_version FROM jobs WHERE id = ? AND state = 'running' AND lease_token = ?");
+  s.bind(1, job_id).bind(2, token);
+  if (!s.step()) return {missing_or_lost(*db, job_id), {}, {}};
+  return {LeaseCheck::ok, s.text(0), s.text(1)};
 }
 
 LeaseCheck QueueStore::heartbeat(std::int64_t job_id, const std::string& token, double eps,
@@ -143,7 +159,9 @@ LeaseCheck QueueStore::heartbeat(std::int64_t job_id, const std::string& token, 
 }
 
 LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
-                              const ResultRecord& r, Millis now) {
+                              const ResultRecord& r, Millis now,
+                              const std::optional<LeaseRequest>& next,
+                              std::optional<Lease>* next_lease) {
   // The files first, without the lock: the folder is named after the lease, so a concurrent
   // upload with another token never writes into it. Removed again unless the commit names it.
   const std::string folder = "job-" + std::to_string(job_id) + "-" + token_folder_name(token);
@@ -170,6 +188,7 @@ LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
   insert_result(db_.writer, job_id, r, worker, now, paths);
   log_event(db_.writer, job_id, now, "succeeded", attempt, worker,
             r.status == "ok" ? "" : "unstable: " + r.reason);
+  if (next && next_lease) *next_lease = claim(next->worker, next->engine_version, now);
   tx.commit();
   files_guard.keep = true;
   db_.wait_durable(lock);

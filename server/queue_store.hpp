@@ -81,10 +81,18 @@ class QueueStore {
   // worker, when given, receives the name of the worker that holds the lease.
   LeaseCheck heartbeat(std::int64_t job_id, const std::string& token, double eps, Millis now,
                        Millis& deadline, std::string* worker = nullptr);
+  // Who asks for a lease: the worker's name and the engine version it runs.
+  struct LeaseRequest {
+    std::string worker;
+    std::string engine_version;
+  };
   // Writes the artifact files (outside the write lock), then the result and its artifact rows
-  // in one transaction.
+  // in one transaction. With `next`, the same transaction also leases the worker's next job
+  // (as lease() would, into *next_lease, none when the queue has nothing for it): one commit
+  // and one round trip where a worker that goes on would need two.
   LeaseCheck complete(std::int64_t job_id, const std::string& token, const ResultRecord& r,
-                      Millis now);
+                      Millis now, const std::optional<LeaseRequest>& next = std::nullopt,
+                      std::optional<Lease>* next_lease = nullptr);
   FailOutcome fail(std::int64_t job_id, const std::string& token, const std::string& reason,
                    bool retryable, Millis now);
   // The worker gives the job back (it is stopping): queued at once, the attempt not counted.
@@ -98,9 +106,19 @@ class QueueStore {
   int requeue_expired(Millis now);
   // The canonical scene and engine version of a job (to check an upload against them).
   std::optional<std::pair<std::string, std::string>> job_scene(std::int64_t job_id);
+  // Both in one read: whether token is the job's live lease, and if so its scene and engine
+  // version (an upload's checks before complete(), which checks the lease again).
+  struct LeasedJob {
+    LeaseCheck check = LeaseCheck::ok;
+    std::string scene, engine_version;
+  };
+  LeasedJob leased_job(std::int64_t job_id, const std::string& token);
 
  private:
   Millis backoff(int attempts) const;
+  // The claim of lease(), inside the caller's write transaction.
+  std::optional<Lease> claim(const std::string& worker, const std::string& engine_version,
+                             Millis now);
 
   StoreDb& db_;
 };

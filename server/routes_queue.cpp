@@ -10,6 +10,7 @@
 #include "clock.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
+#include "json_input.hpp"
 #include "result_intake.hpp"
 #include "safe_text.hpp"
 
@@ -29,32 +30,41 @@ void check_lease(LeaseCheck c) {
 
 std::string lease_token(const json& body) { return body_string(body, "lease_token", 200); }
 
-void lease(App& app, const httplib::Request& req, httplib::Response& res) {
-  const json body = parse_json_body(req);
-  const std::string worker = body_string(body, "worker", 200);
-  const std::string version = body_string(body, "engine_version", 100);
+// A lease request's body: {"worker", "engine_version"}, nothing else.
+QueueStore::LeaseRequest lease_request(const json& body) {
+  QueueStore::LeaseRequest r{body_string(body, "worker", 200),
+                             body_string(body, "engine_version", 100)};
   for (const auto& [key, value] : body.items()) {
     if (key != "worker" && key != "engine_version") throw ApiError(422, key, "unknown key");
   }
+  return r;
+}
+
+// What a worker is told of its lease.
+json lease_answer(App& app, const Lease& lease, const std::string& worker) {
+  spdlog::info("job leased id={} worker={} attempt={}/{}", lease.job_id, log_escape(worker),
+               lease.attempt, lease.max_attempts);
+  return {{"job_id", lease.job_id},
+          {"lease_token", lease.token},
+          {"lease_deadline", lease.deadline},
+          {"lease_seconds", app.options.lease_seconds},
+          {"attempt", lease.attempt},
+          {"max_attempts", lease.max_attempts},
+          {"scene", json::parse(lease.scene)},
+          // the run's checkpoint when an earlier lease uploaded one: go on from it
+          {"checkpoint", checkpoint_of(app, lease.job_id)}};
+}
+
+void lease(App& app, const httplib::Request& req, httplib::Response& res) {
+  const QueueStore::LeaseRequest who = lease_request(parse_json_body(req));
   const Millis now = now_ms();
-  app.workers.seen(worker, now);
-  const auto lease = app.store.queue.lease(worker, version, now);
+  app.workers.seen(who.worker, now);
+  const auto lease = app.store.queue.lease(who.worker, who.engine_version, now);
   if (!lease) {
     res.status = 204;  // nothing to do now
     return;
   }
-  spdlog::info("job leased id={} worker={} attempt={}/{}", lease->job_id, log_escape(worker),
-               lease->attempt, lease->max_attempts);
-  send_json(res, 200,
-            {{"job_id", lease->job_id},
-             {"lease_token", lease->token},
-             {"lease_deadline", lease->deadline},
-             {"lease_seconds", app.options.lease_seconds},
-             {"attempt", lease->attempt},
-             {"max_attempts", lease->max_attempts},
-             {"scene", json::parse(lease->scene)},
-             // the run's checkpoint when an earlier lease uploaded one: go on from it
-             {"checkpoint", checkpoint_of(app, lease->job_id)}});
+  send_json(res, 200, lease_answer(app, *lease, who.worker));
 }
 
 void heartbeat(App& app, const httplib::Request& req, httplib::Response& res) {
@@ -89,26 +99,41 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   if (!req.has_file("lease_token")) throw ApiError(422, "lease_token", "is required");
   if (!req.has_file("summary")) throw ApiError(422, "summary", "is required");
   const std::string token = req.get_file_value("lease_token").content;
-  check_lease(app.store.queue.check_lease(id, token));
-  const auto job = app.store.queue.job_scene(id);
-  if (!job) throw ApiError(404, "id", "no such job");
+  // A worker that goes on asks for its next job with the result (the lease body as a field).
+  std::optional<QueueStore::LeaseRequest> next;
+  if (req.has_file("next_lease")) {
+    try {
+      next = lease_request(parse_client_json(req.get_file_value("next_lease").content,
+                                             "next_lease", 422));
+    } catch (ApiError& e) {
+      e.field = e.field == "next_lease" ? e.field : "next_lease." + e.field;
+      throw;
+    }
+  }
+  const QueueStore::LeasedJob job = app.store.queue.leased_job(id, token);
+  check_lease(job.check);
   std::vector<UploadedFile> files;
   for (const auto& [name, part] : req.files) {
-    if (name == "lease_token" || name == "summary") continue;
+    if (name == "lease_token" || name == "summary" || name == "next_lease") continue;
     if (name != "files") {
       throw ApiError(422, "form[" + valid_utf8(name.substr(0, 100)) + "]",
-                     "unknown form field (expected lease_token, summary, files)");
+                     "unknown form field (expected lease_token, summary, files, next_lease)");
     }
     files.push_back({part.filename, part.content});
   }
-  ResultRecord r = intake_result(req.get_file_value("summary").content, job->first,
-                                 job->second, std::move(files));
-  check_lease(app.store.queue.complete(id, token, r, now_ms()));
+  ResultRecord r = intake_result(req.get_file_value("summary").content, job.scene,
+                                 job.engine_version, std::move(files));
+  const Millis now = now_ms();
+  if (next) app.workers.seen(next->worker, now);
+  std::optional<Lease> next_lease;
+  check_lease(app.store.queue.complete(id, token, r, now, next, &next_lease));
   spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
                r.cls.value_or("-"), r.artifacts.size());
   app.store.checkpoints.remove_if_done(id);
   app.adaptive.job_ended(app.store, app.limits, id, now_ms());
-  send_json(res, 200, {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}});
+  json answer = {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}};
+  if (next) answer["next"] = next_lease ? lease_answer(app, *next_lease, next->worker) : json(nullptr);
+  send_json(res, 200, answer);
 }
 
 void fail(App& app, const httplib::Request& req, httplib::Response& res) {

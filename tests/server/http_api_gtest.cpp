@@ -292,6 +292,53 @@ TEST_F(ApiTest, AnUploadWithABadFileOrFieldNameNamesItAndStoresNothing) {
   EXPECT_EQ(store->reads.fingerprint(), before);
 }
 
+TEST_F(ApiTest, ACompleteThatAsksForTheNextJobAnswersItsLeaseOrNull) {
+  post("/api/v1/sweeps",
+       R"({"name": "two", "S": [0.05, 0.06], "R": 0.001, "phi": 0.4,
+           "numerics": {"cells_per_unit": 8, "eps_end": 0.05}})",
+       submit);
+  const auto complete = [&](const json& l, const std::string& next_lease) {
+    compaction::SceneParams p;
+    EXPECT_TRUE(compaction::from_json(l["scene"], p).empty());
+    const json summary = compaction::summary_json(p, compaction::RunResult{});
+    const std::string path = "/api/v1/jobs/" + std::to_string(l["job_id"].get<int>()) + "/complete";
+    return client->Post(path.c_str(), auth(worker),
+                        {{"lease_token", l["lease_token"], "", "text/plain"},
+                         {"summary", summary.dump(), "summary.json", "application/json"},
+                         {"next_lease", next_lease, "", "application/json"}});
+  };
+  const json first = lease();
+  const json ask = {{"worker", "w1"}, {"engine_version", compaction::engine_version()}};
+
+  // A bad lease request is refused like the lease endpoint's, and the result is not stored.
+  const std::string before = store->reads.fingerprint();
+  for (const auto& [bad, field] : std::vector<std::pair<std::string, std::string>>{
+           {"{\"worker\": ", "next_lease"},
+           {R"({"worker": "w1"})", "next_lease.engine_version"},
+           {R"({"worker": "w1", "engine_version": "x", "extra": 1})", "next_lease.extra"}}) {
+    auto r = complete(first, bad);
+    EXPECT_EQ(r->status, 422) << bad << ": " << r->body;
+    EXPECT_EQ(json::parse(r->body)["error"]["field"], field) << r->body;
+  }
+  EXPECT_EQ(store->reads.fingerprint(), before);
+
+  auto done = complete(first, ask.dump());
+  ASSERT_EQ(done->status, 200) << done->body;
+  const json next = json::parse(done->body)["next"];
+  ASSERT_TRUE(next.is_object()) << done->body;
+  EXPECT_NE(next["job_id"], first["job_id"]);
+  for (const char* key : {"lease_token", "lease_deadline", "lease_seconds", "attempt",
+                          "max_attempts", "scene", "checkpoint"}) {
+    EXPECT_TRUE(next.contains(key)) << key << " missing from " << next;
+  }
+  const json job = json::parse(client->Get(("/api/v1/jobs/" + std::to_string(next["job_id"].get<int>())).c_str())->body);
+  EXPECT_EQ(job["state"], "running");
+  // The queue is empty: the next complete answers "next": null.
+  auto last = complete(next, ask.dump());
+  ASSERT_EQ(last->status, 200) << last->body;
+  EXPECT_TRUE(json::parse(last->body)["next"].is_null()) << last->body;
+}
+
 TEST_F(ApiTest, AnInternalErrorSaysNothingButAnIdThatIsInTheLog) {
   // A handler that fails the way a store call does, with SQL in the message.
   httplib::Server bare;

@@ -147,6 +147,41 @@ TEST_F(StoreTest, AnExpiredLeaseReturnsTheJobAndTheStaleTokenCanNeverComplete) {
   EXPECT_EQ(m.events_by_kind.size() > 0, true);
 }
 
+TEST_F(StoreTest, ACompleteThatAsksForTheNextJobLeasesItInTheSameCommit) {
+  store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  const auto first = store.queue.lease("w", "test-1", t0);
+  std::optional<Lease> next;
+  ASSERT_EQ(store.queue.complete(first->job_id, first->token, result_for(store, first->job_id),
+                                 t0 + 5, QueueStore::LeaseRequest{"w", "test-1"}, &next),
+            LeaseCheck::ok);
+  ASSERT_TRUE(next);
+  EXPECT_NE(next->job_id, first->job_id);
+  EXPECT_EQ(next->deadline, t0 + 5 + lease_ms);
+  EXPECT_EQ(next->attempt, 1);
+  const json job = *job_of(store, next->job_id);
+  EXPECT_EQ(job["state"], "running");
+  EXPECT_EQ(job["worker"], "w");
+  EXPECT_EQ((*job_of(store, first->job_id))["state"], "succeeded");
+  // The queue is empty now: the next complete succeeds and leases nothing.
+  std::optional<Lease> none = Lease{};
+  ASSERT_EQ(store.queue.complete(next->job_id, next->token, result_for(store, next->job_id), t0 + 6,
+                                 QueueStore::LeaseRequest{"w", "test-1"}, &none),
+            LeaseCheck::ok);
+  EXPECT_FALSE(none);
+}
+
+TEST_F(StoreTest, ACompleteWithALostLeaseLeasesNothing) {
+  store.sweeps.create(plan(points({0.01, 0.02})), t0);
+  const auto first = store.queue.lease("w", "test-1", t0);
+  const std::string before = store.reads.fingerprint();
+  std::optional<Lease> next;
+  EXPECT_EQ(store.queue.complete(first->job_id, "stale", result_for(store, first->job_id), t0,
+                                 QueueStore::LeaseRequest{"w", "test-1"}, &next),
+            LeaseCheck::lost);
+  EXPECT_FALSE(next);
+  EXPECT_EQ(store.reads.fingerprint(), before) << "the other job is still queued";
+}
+
 TEST_F(StoreTest, ALeaseExpiringOnTheLastAttemptFailsTheJob) {
   json body = points({0.01});
   body["max_attempts"] = 1;
