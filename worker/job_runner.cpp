@@ -61,7 +61,7 @@ Reply with_patience(Call call, double patience, const std::atomic<bool>& stop, b
 JobRunner::JobRunner(const WorkerOptions& options, ApiClient& client, const std::atomic<bool>& stop)
     : options_(options), client_(client), stop_(stop) {}
 
-JobEnd JobRunner::run(const LeasedJob& job) {
+JobEnd JobRunner::run(const LeasedJob& job, const std::optional<NextLease>& next) {
   const fs::path dir = fs::path(options_.work_dir) /
                        ("job-" + std::to_string(job.id) + "-a" + std::to_string(job.attempt));
   std::error_code ec;
@@ -109,7 +109,7 @@ JobEnd JobRunner::run(const LeasedJob& job) {
       resume.clear();
       continue;
     }
-    return conclude(job, w, out_dir, stderr_file);
+    return conclude(job, w, out_dir, stderr_file, next);
   }
 }
 
@@ -221,7 +221,7 @@ JobRunner::Watched JobRunner::watch(const LeasedJob& job, ChildProcess& child) {
 }
 
 JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::string& out_dir,
-                           const std::string& stderr_file) {
+                           const std::string& stderr_file, const std::optional<NextLease>& next) {
   const std::string err_tail = tail_of_file(stderr_file, 2000);
   // The runner exits 3 when a SIGTERM or SIGINT that this worker did not send stops it (before
   // its handler is installed, the signal kills it). A batch system sends one to every process
@@ -243,7 +243,7 @@ JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::st
       spdlog::info("job {}: run ended status={}{}", job.id,
                    w.done_status.empty() ? "?" : w.done_status,
                    w.done_reason.empty() ? "" : " (" + w.done_reason + ")");
-      return upload(job, out_dir);
+      return upload(job, out_dir, next);
     case 2:
       return report_failure(job, "invalid input: " + err_tail, false);
     default:
@@ -253,7 +253,8 @@ JobEnd JobRunner::conclude(const LeasedJob& job, const Watched& w, const std::st
   }
 }
 
-JobEnd JobRunner::upload(const LeasedJob& job, const std::string& out_dir) {
+JobEnd JobRunner::upload(const LeasedJob& job, const std::string& out_dir,
+                         const std::optional<NextLease>& next) {
   const fs::path summary_path = fs::path(out_dir) / "summary.json";
   if (!fs::exists(summary_path)) {
     return report_failure(job, "the runner exited 0 without writing summary.json", true);
@@ -267,7 +268,7 @@ JobEnd JobRunner::upload(const LeasedJob& job, const std::string& out_dir) {
     bytes += files.back().data.size();
   }
   std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
-  const Reply r = with_patience([&] { return client_.complete(job.id, job.token, summary, files); },
+  const Reply r = with_patience([&] { return client_.complete(job.id, job.token, summary, files, next); },
                                 job.lease_seconds, stop_, false);
   switch (r.outcome) {
     case Outcome::ok:

@@ -54,7 +54,9 @@ const char* to_string(JobEnd e);
 class JobRunner {
  public:
   JobRunner(const WorkerOptions& options, ApiClient& client, const std::atomic<bool>& stop);
-  JobEnd run(const LeasedJob& job);
+  // next: the worker goes on after this job, so the upload of its result asks for the next
+  // one (ApiClient::complete); none when it stops after it.
+  JobEnd run(const LeasedJob& job, const std::optional<NextLease>& next = std::nullopt);
 
  private:
   // How a run went: stopped by the worker (end), or ended by itself (exit, and its "done" line).
@@ -68,9 +70,10 @@ class JobRunner {
   Watched watch(const LeasedJob& job, ChildProcess& child);
   // What the runner's exit means: an upload, or a failure with its reason.
   JobEnd conclude(const LeasedJob& job, const Watched& w, const std::string& out_dir,
-                  const std::string& stderr_file);
+                  const std::string& stderr_file, const std::optional<NextLease>& next);
   JobEnd report_failure(const LeasedJob& job, const std::string& reason, bool retryable);
-  JobEnd upload(const LeasedJob& job, const std::string& out_dir);
+  JobEnd upload(const LeasedJob& job, const std::string& out_dir,
+                const std::optional<NextLease>& next);
   JobEnd release(const LeasedJob& job);
   // One line of the runner's stdout: progress, checkpoints (each uploaded), the resume, done.
   void handle_line(const LeasedJob& job, const std::string& line, double& eps, Watched& w);

@@ -115,7 +115,12 @@ int main(int argc, char** argv) {
         return exit_error;
       }
       ++jobs;
-      const JobEnd end = runner.run(job);
+      // Unless this is the last job (--max-jobs), the result's upload asks for the next one.
+      std::optional<NextLease> next;
+      if (options->max_jobs == 0 || jobs < options->max_jobs) {
+        next = NextLease{options->name, engine.engine_version};
+      }
+      const JobEnd end = runner.run(job, next);
       spdlog::info("job {} ended: {}", job.id, to_string(end));
       last_work = std::chrono::steady_clock::now();
       continue;
@@ -138,6 +143,7 @@ int main(int argc, char** argv) {
     nap(options->poll_interval);
   }
   if (stop_requested) spdlog::info("stopped by signal after {} job(s)", jobs);
+  client.release_unclaimed();  // a job the last upload leased, when a signal came before it ran
   if (!options->keep_work) scratch->remove_if_empty();
   if (!reached) {
     spdlog::error("the server at {} never answered", options->server);
