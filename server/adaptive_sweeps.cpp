@@ -142,9 +142,12 @@ void AdaptiveSweeps::plan_more(Store& store, const PlannerLimits& limits, std::i
 
 void AdaptiveSweeps::job_ended(Store& store, const PlannerLimits& limits, std::int64_t job_id,
                                Millis now) {
-  for (std::int64_t id : store.reads.live_adaptive_sweeps_of_job(job_id)) {
-    advance(store, limits, id, now);
-  }
+  advance_each(store, limits, store.reads.live_adaptive_sweeps_of_job(job_id), now);
+}
+
+void AdaptiveSweeps::advance_each(Store& store, const PlannerLimits& limits,
+                                  const std::vector<std::int64_t>& sweep_ids, Millis now) {
+  for (std::int64_t id : sweep_ids) advance(store, limits, id, now);
 }
 
 void AdaptiveSweeps::advance_all(Store& store, const PlannerLimits& limits, Millis now) {

@@ -23,7 +23,8 @@ struct ResumeReport {
 };
 std::optional<ResumeReport> parse_resume_report(const nlohmann::json& heartbeat_body);
 
-// The job's stored checkpoint as the lease answer and the job detail show it, or null.
+// The job's stored checkpoint as the job detail shows it, or null (a lease answer shows the
+// checkpoint its lease read, views::checkpoint).
 nlohmann::json checkpoint_of(App& app, std::int64_t job_id);
 
 // Adds "checkpoint" and "resumes" to a job's detail.

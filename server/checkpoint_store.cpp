@@ -105,16 +105,20 @@ LeaseCheck CheckpointStore::put(std::int64_t job_id, const std::string& token,
   return LeaseCheck::ok;
 }
 
-std::optional<StoredCheckpoint> CheckpointStore::find(std::int64_t job_id) {
-  auto db = db_.readers.take();
-  sqlite::ReadTransaction read(*db);
-  auto s = db->prepare(
+std::optional<StoredCheckpoint> find_checkpoint(sqlite::Database& db, std::int64_t job_id) {
+  auto s = db.prepare(
       "SELECT path, size, step, eps, worker, attempt, created_at FROM job_checkpoints"
       " WHERE job_id = ?");
   s.bind(1, job_id);
   if (!s.step()) return std::nullopt;
   return StoredCheckpoint{job_id,       s.text(0),  s.int64(1), s.int64(2), s.real(3),
                           s.text(4),    static_cast<int>(s.int64(5)), s.int64(6)};
+}
+
+std::optional<StoredCheckpoint> CheckpointStore::find(std::int64_t job_id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  return find_checkpoint(*db, job_id);
 }
 
 std::string CheckpointStore::read(const StoredCheckpoint& c) const { return files_.read(c.path); }

@@ -13,21 +13,11 @@
 #include <vector>
 
 #include "artifact_files.hpp"
+#include "checkpoint_rows.hpp"
 #include "queue_store.hpp"
 #include "store_db.hpp"
 
 namespace compaction::server {
-
-struct StoredCheckpoint {
-  std::int64_t job_id = 0;
-  std::string path;        // relative to the checkpoints folder
-  std::int64_t size = 0;   // [bytes]
-  std::int64_t step = 0;   // time steps the run had taken
-  double eps = 0.0;        // imposed strain it had reached
-  std::string worker;      // that uploaded it
-  int attempt = 0;         // of the lease that uploaded it
-  Millis created_at = 0;
-};
 
 struct Resume {
   Millis at = 0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <random>
 
+#include "store_reads.hpp"
+
 namespace compaction::server {
 
 namespace {
@@ -118,8 +120,9 @@ std::optional<Lease> QueueStore::claim(const std::string& worker, const std::str
   s.bind(1, token).bind(2, now).bind(3, db_.config.lease_ms).bind(4, worker).bind(5, engine_version);
   if (!s.step()) return std::nullopt;
   Lease l{s.int64(0), token, s.int64(1), s.text(2), static_cast<int>(s.int64(3)),
-          static_cast<int>(s.int64(4))};
+          static_cast<int>(s.int64(4)), std::nullopt};
   s.run();
+  l.checkpoint = find_checkpoint(db_.writer, l.job_id);
   log_event(db_.writer, l.job_id, now, "leased", l.attempt, worker, "");
   return l;
 }
@@ -160,8 +163,7 @@ LeaseCheck QueueStore::heartbeat(std::int64_t job_id, const std::string& token, 
 
 LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
                               const ResultRecord& r, Millis now,
-                              const std::optional<LeaseRequest>& next,
-                              std::optional<Lease>* next_lease) {
+                              const std::optional<LeaseRequest>& next, FollowUps* follow_ups) {
   // The files first, without the lock: the folder is named after the lease, so a concurrent
   // upload with another token never writes into it. Removed again unless the commit names it.
   const std::string folder = "job-" + std::to_string(job_id) + "-" + token_folder_name(token);
@@ -188,7 +190,11 @@ LeaseCheck QueueStore::complete(std::int64_t job_id, const std::string& token,
   insert_result(db_.writer, job_id, r, worker, now, paths);
   log_event(db_.writer, job_id, now, "succeeded", attempt, worker,
             r.status == "ok" ? "" : "unstable: " + r.reason);
-  if (next && next_lease) *next_lease = claim(next->worker, next->engine_version, now);
+  if (follow_ups) {
+    follow_ups->checkpoint = find_checkpoint(db_.writer, job_id).has_value();
+    follow_ups->adaptive_sweeps = live_adaptive_sweeps_of_job(db_.writer, job_id);
+    if (next) follow_ups->next = claim(next->worker, next->engine_version, now);
+  }
   tx.commit();
   files_guard.keep = true;
   db_.wait_durable(lock);

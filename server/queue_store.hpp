@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "checkpoint_rows.hpp"
 #include "job_states.hpp"
 #include "store_db.hpp"
 
@@ -22,6 +23,7 @@ struct Lease {
   std::string scene;   // canonical scene JSON
   int attempt = 0;
   int max_attempts = 0;
+  std::optional<StoredCheckpoint> checkpoint;  // an earlier lease's: the run goes on from it
 };
 
 // What a worker's upload becomes (checked by result_intake before it gets here).
@@ -86,13 +88,20 @@ class QueueStore {
     std::string worker;
     std::string engine_version;
   };
+  // What a completion's transaction found for the caller's follow-ups (none of which needs a
+  // read of its own then).
+  struct FollowUps {
+    std::optional<Lease> next;                  // the worker's next job, when it asked for one
+    bool checkpoint = false;                    // the job has a checkpoint, which may go now
+    std::vector<std::int64_t> adaptive_sweeps;  // the live adaptive sweeps that hold the job
+  };
   // Writes the artifact files (outside the write lock), then the result and its artifact rows
   // in one transaction. With `next`, the same transaction also leases the worker's next job
-  // (as lease() would, into *next_lease, none when the queue has nothing for it): one commit
-  // and one round trip where a worker that goes on would need two.
+  // (as lease() would; none when the queue has nothing for it): one commit and one round trip
+  // where a worker that goes on would need two.
   LeaseCheck complete(std::int64_t job_id, const std::string& token, const ResultRecord& r,
                       Millis now, const std::optional<LeaseRequest>& next = std::nullopt,
-                      std::optional<Lease>* next_lease = nullptr);
+                      FollowUps* follow_ups = nullptr);
   FailOutcome fail(std::int64_t job_id, const std::string& token, const std::string& reason,
                    bool retryable, Millis now);
   // The worker gives the job back (it is stopping): queued at once, the attempt not counted.

@@ -7,6 +7,7 @@
 
 #include "app.hpp"
 #include "checkpoint_routes.hpp"
+#include "checkpoint_views.hpp"
 #include "clock.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
@@ -52,7 +53,7 @@ json lease_answer(App& app, const Lease& lease, const std::string& worker) {
           {"max_attempts", lease.max_attempts},
           {"scene", json::parse(lease.scene)},
           // the run's checkpoint when an earlier lease uploaded one: go on from it
-          {"checkpoint", checkpoint_of(app, lease.job_id)}};
+          {"checkpoint", lease.checkpoint ? views::checkpoint(*lease.checkpoint) : json(nullptr)}};
 }
 
 void lease(App& app, const httplib::Request& req, httplib::Response& res) {
@@ -125,14 +126,14 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
                                  job.engine_version, std::move(files));
   const Millis now = now_ms();
   if (next) app.workers.seen(next->worker, now);
-  std::optional<Lease> next_lease;
-  check_lease(app.store.queue.complete(id, token, r, now, next, &next_lease));
+  QueueStore::FollowUps follow;
+  check_lease(app.store.queue.complete(id, token, r, now, next, &follow));
   spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
                r.cls.value_or("-"), r.artifacts.size());
-  app.store.checkpoints.remove_if_done(id);
-  app.adaptive.job_ended(app.store, app.limits, id, now_ms());
+  if (follow.checkpoint) app.store.checkpoints.remove_if_done(id);
+  app.adaptive.advance_each(app.store, app.limits, follow.adaptive_sweeps, now_ms());
   json answer = {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}};
-  if (next) answer["next"] = next_lease ? lease_answer(app, *next_lease, next->worker) : json(nullptr);
+  if (next) answer["next"] = follow.next ? lease_answer(app, *follow.next, next->worker) : json(nullptr);
   send_json(res, 200, answer);
 }
 

@@ -148,7 +148,11 @@ std::vector<std::int64_t> StoreReads::live_adaptive_sweeps() {
 std::vector<std::int64_t> StoreReads::live_adaptive_sweeps_of_job(std::int64_t job_id) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
-  auto s = db->prepare(
+  return compaction::server::live_adaptive_sweeps_of_job(*db, job_id);
+}
+
+std::vector<std::int64_t> live_adaptive_sweeps_of_job(sqlite::Database& db, std::int64_t job_id) {
+  auto s = db.prepare(
       "SELECT s.id FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id"
       " WHERE sj.job_id = ? AND s.cancelled_at IS NULL AND s.origin_database IS NULL"
       " AND json_extract(s.request, '$.adaptive') IS NOT NULL ORDER BY s.id");

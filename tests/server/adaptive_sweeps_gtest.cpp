@@ -73,14 +73,18 @@ struct AdaptiveSweepsTest : ::testing::Test {
     return c.id;
   }
 
-  // Leases one job, completes it with the field's label and lets the sweeps plan on. False
-  // when the queue is empty.
+  // Leases one job, completes it with the field's label and lets the sweeps that the
+  // completion found holding the job plan on, as the complete route does. False when the queue
+  // is empty.
   bool run_one() {
     const auto lease = store.queue.lease("w", "test-1", ++now);
     if (!lease) return false;
-    EXPECT_EQ(store.queue.complete(lease->job_id, lease->token, labelled_result(*lease), ++now),
+    QueueStore::FollowUps follow;
+    EXPECT_EQ(store.queue.complete(lease->job_id, lease->token, labelled_result(*lease), ++now,
+                                   std::nullopt, &follow),
               LeaseCheck::ok);
-    adaptive.job_ended(store, limits, lease->job_id, now);
+    EXPECT_EQ(follow.adaptive_sweeps, store.reads.live_adaptive_sweeps_of_job(lease->job_id));
+    adaptive.advance_each(store, limits, follow.adaptive_sweeps, now);
     return true;
   }
 

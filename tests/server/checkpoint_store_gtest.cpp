@@ -114,6 +114,28 @@ TEST_F(CheckpointStoreTest, TheCheckpointGoesWhenTheJobSucceedsOrFailsForGood) {
   EXPECT_EQ(folders(root()), 0u);
 }
 
+TEST_F(CheckpointStoreTest, TheLeaseCarriesTheCheckpointAndTheCompletionSaysOneIsToGo) {
+  const Lease l = lease_one();
+  EXPECT_FALSE(l.checkpoint);
+  ASSERT_EQ(store->checkpoints.put(l.job_id, l.token, "state", 10, 0.01, t0 + 1), LeaseCheck::ok);
+  ASSERT_EQ(store->queue.release(l.job_id, l.token, t0 + 2), LeaseCheck::ok);
+  const Lease again = *store->queue.lease("w2", "test-1", t0 + 3);
+  ASSERT_TRUE(again.checkpoint) << "the lease answer names the checkpoint to go on from";
+  EXPECT_EQ(again.checkpoint->step, 10);
+  EXPECT_EQ(again.checkpoint->worker, "w1");
+  ResultRecord r;
+  r.status = "ok";
+  r.scene = store->queue.job_scene(again.job_id)->first;
+  r.engine_version = "test-1";
+  r.source_revision = "abc";
+  r.summary = "{}";
+  QueueStore::FollowUps follow;
+  ASSERT_EQ(store->queue.complete(again.job_id, again.token, r, t0 + 4, std::nullopt, &follow),
+            LeaseCheck::ok);
+  EXPECT_TRUE(follow.checkpoint);
+  EXPECT_FALSE(follow.next) << "not asked for";
+}
+
 TEST_F(CheckpointStoreTest, AtStartFoldersNoRowNamesAndCheckpointsOfDoneJobsGo) {
   const Lease l = lease_one(1);
   ASSERT_EQ(store->checkpoints.put(l.job_id, l.token, "state", 10, 0.01, t0 + 1), LeaseCheck::ok);

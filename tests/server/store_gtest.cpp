@@ -150,10 +150,13 @@ TEST_F(StoreTest, AnExpiredLeaseReturnsTheJobAndTheStaleTokenCanNeverComplete) {
 TEST_F(StoreTest, ACompleteThatAsksForTheNextJobLeasesItInTheSameCommit) {
   store.sweeps.create(plan(points({0.01, 0.02})), t0);
   const auto first = store.queue.lease("w", "test-1", t0);
-  std::optional<Lease> next;
+  QueueStore::FollowUps follow;
   ASSERT_EQ(store.queue.complete(first->job_id, first->token, result_for(store, first->job_id),
-                                 t0 + 5, QueueStore::LeaseRequest{"w", "test-1"}, &next),
+                                 t0 + 5, QueueStore::LeaseRequest{"w", "test-1"}, &follow),
             LeaseCheck::ok);
+  EXPECT_FALSE(follow.checkpoint);
+  EXPECT_TRUE(follow.adaptive_sweeps.empty()) << "a list sweep is not adaptive";
+  const std::optional<Lease>& next = follow.next;
   ASSERT_TRUE(next);
   EXPECT_NE(next->job_id, first->job_id);
   EXPECT_EQ(next->deadline, t0 + 5 + lease_ms);
@@ -163,22 +166,23 @@ TEST_F(StoreTest, ACompleteThatAsksForTheNextJobLeasesItInTheSameCommit) {
   EXPECT_EQ(job["worker"], "w");
   EXPECT_EQ((*job_of(store, first->job_id))["state"], "succeeded");
   // The queue is empty now: the next complete succeeds and leases nothing.
-  std::optional<Lease> none = Lease{};
+  QueueStore::FollowUps last;
+  last.next = Lease{};
   ASSERT_EQ(store.queue.complete(next->job_id, next->token, result_for(store, next->job_id), t0 + 6,
-                                 QueueStore::LeaseRequest{"w", "test-1"}, &none),
+                                 QueueStore::LeaseRequest{"w", "test-1"}, &last),
             LeaseCheck::ok);
-  EXPECT_FALSE(none);
+  EXPECT_FALSE(last.next);
 }
 
 TEST_F(StoreTest, ACompleteWithALostLeaseLeasesNothing) {
   store.sweeps.create(plan(points({0.01, 0.02})), t0);
   const auto first = store.queue.lease("w", "test-1", t0);
   const std::string before = store.reads.fingerprint();
-  std::optional<Lease> next;
+  QueueStore::FollowUps follow;
   EXPECT_EQ(store.queue.complete(first->job_id, "stale", result_for(store, first->job_id), t0,
-                                 QueueStore::LeaseRequest{"w", "test-1"}, &next),
+                                 QueueStore::LeaseRequest{"w", "test-1"}, &follow),
             LeaseCheck::lost);
-  EXPECT_FALSE(next);
+  EXPECT_FALSE(follow.next);
   EXPECT_EQ(store.reads.fingerprint(), before) << "the other job is still queued";
 }
 
