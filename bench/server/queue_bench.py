@@ -3,12 +3,18 @@
 loopback with fake workers, for one or two server binaries in the same run:
 
   cycles     lease + complete cycles per second with 1, 4, 16 and 32 fake workers. A fake worker
-             is an HTTP client that leases a job (POST /leases), then uploads a minimal valid
-             bundle at once (POST /jobs/{id}/complete: the summary of the leased scene with a
-             classification, and one 200-byte frames.csv): the same endpoints, checks, artifact
-             files and transactions as a real worker's, without the simulation; like
-             compaction-worker, it sends the lease that follows a complete on the complete's
-             connection. Median of 3 rounds of 3 s each.
+             leases a job, then uploads a minimal valid bundle at once (POST /jobs/{id}/complete:
+             the summary of the leased scene with a classification, and one 200-byte
+             frames.csv): the same endpoints, checks, artifact files and transactions as a real
+             worker's, without the simulation. Two fake workers: Python threads (this script),
+             and queue_fake_workers (bench/server/fake_workers.cpp), which is compaction-worker's
+             own HTTP client. The protocol of a cycle:
+               next      the complete asks for the next job (form field next_lease), as
+                         compaction-worker does: one request per cycle
+               kept      POST /leases on the complete's kept-alive connection (compaction-worker
+                         from de4c718 until next_lease; Python client only)
+               separate  POST /leases on a connection of its own
+             Median of 3 rounds of 3 s each.
   readers    200 dashboard readers at once, each one GET /phase-map of a 2 000-job sweep (every
              job succeeded): median and 90th percentile of their waits and the answer's size;
              then the same 200 polling again with the ETag of their first answer
@@ -18,6 +24,7 @@ loopback with fake workers, for one or two server binaries in the same run:
 
 usage: bench/server/queue_bench.py --bin build/bin [--baseline OLD_BIN_DIR] [--out FILE]
                                    [--bin-rev REV] [--baseline-rev REV]
+                                   [--baseline-protocol kept] [--fake-workers PROGRAM]
 Writes a Markdown table (default bench/results/queue_bench.md) with the command that made it and
 the machine's load average (the cores may be shared). Standard library only.
 """
@@ -61,7 +68,7 @@ def create(server, body):
     return json.loads(answer)["id"]
 
 
-def multipart(lease, engine):
+def multipart(lease, engine, next_lease=None):
     scene = lease["scene"]
     summary = {"status": "ok", "params": scene, "engine_version": engine,
                "source_revision": "queue-bench", "eps_reached": scene["eps_end"],
@@ -72,6 +79,8 @@ def multipart(lease, engine):
     parts = [(b"lease_token", None, lease["lease_token"].encode()),
              (b"summary", b"summary.json", json.dumps(summary).encode()),
              (b"files", b"frames.csv", FRAMES_CSV)]
+    if next_lease:
+        parts.append((b"next_lease", None, next_lease.encode()))
     out = []
     for name, filename, content in parts:
         disp = b'form-data; name="' + name + b'"' + (b'; filename="' + filename + b'"' if filename else b"")
@@ -102,35 +111,41 @@ def post(port, path, body, content_type, resets, kept=None, keep=False):
             time.sleep(0.01)
 
 
-def worker_thread(port, engine, name, start, end, share, out):
-    """Lease + complete until `end`; counts the cycles that finished within [start, end]. With
-    share false, every request on a connection of its own (compaction-worker until 2026-12-03)."""
+def worker_thread(port, engine, name, start, end, protocol, out):
+    """Lease + complete until `end` by `protocol` (the module's docstring); counts the cycles
+    that finished within [start, end]."""
     lease_body = json.dumps({"worker": name, "engine_version": engine})
     done, times, idle, resets = 0, [], 0, [0]
-    kept = None
+    kept, lease = None, None
     while time.time() < end:
         t0 = time.time()
-        status, body, _ = post(port, "/api/v1/leases", lease_body, "application/json", resets, kept)
-        kept = None
-        if status == 204:
-            idle += 1
-            time.sleep(0.01)
-            continue
-        if status != 200:
-            raise RuntimeError("lease -> %d %s" % (status, body[:200]))
-        lease = json.loads(body)
+        if lease is None:
+            status, body, _ = post(port, "/api/v1/leases", lease_body, "application/json", resets, kept)
+            kept = None
+            if status == 204:
+                idle += 1
+                time.sleep(0.01)
+                continue
+            if status != 200:
+                raise RuntimeError("lease -> %d %s" % (status, body[:200]))
+            lease = json.loads(body)
         before = resets[0]
         status, body, kept = post(port, "/api/v1/jobs/%d/complete" % lease["job_id"],
-                                  multipart(lease, engine),
-                                  "multipart/form-data; boundary=benchboundary", resets, keep=share)
+                                  multipart(lease, engine, lease_body if protocol == "next" else None),
+                                  "multipart/form-data; boundary=benchboundary", resets,
+                                  keep=protocol == "kept")
         if status != 200 and not (status == 409 and resets[0] > before):  # 409: the first try went in
             raise RuntimeError("complete -> %d %s" % (status, body[:200]))
+        lease = json.loads(body).get("next") if protocol == "next" and status == 200 else None
         t1 = time.time()
         if start <= t0 and t1 <= end:
             done += 1
             times.append(t1 - t0)
     if kept:
         kept.close()
+    if lease:  # the job the last complete leased goes back to the queue
+        post(port, "/api/v1/jobs/%d/release" % lease["job_id"],
+             json.dumps({"lease_token": lease["lease_token"]}), "application/json", resets)
     out.append((done, times, idle, resets[0]))
 
 
@@ -153,10 +168,10 @@ def reader_thread(port, path, etag, barrier, out):
 def process_main(kind, args, n_threads, index, queue):
     out, threads = [], []
     if kind == "worker":
-        port, engine, start, end, share = args
+        port, engine, start, end, protocol = args
         for i in range(n_threads):
             threads.append(threading.Thread(target=worker_thread, args=(
-                port, engine, "bench-%d-%d" % (index, i), start, end, share, out)))
+                port, engine, "bench-%d-%d" % (index, i), start, end, protocol, out)))
     else:
         port, path, etag, at = args
         barrier = threading.Barrier(n_threads, timeout=60)
@@ -193,15 +208,40 @@ def run_clients(kind, n, args):
     return results
 
 
-def cycles(server, engine, n, seconds, share=True):
+def cpu_seconds(pid):
+    """User + system CPU time of a process so far (/proc/PID/stat)."""
+    fields = open("/proc/%d/stat" % pid).read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def cycles(server, engine, n, seconds, client):
+    """(cycles per second, median cycle time, resets, the server's CPU seconds per cycle) of n
+    fake workers; client: (kind, protocol) with kind "python" or the path of
+    queue_fake_workers."""
+    kind, protocol = client
+    cpu0 = cpu_seconds(server.proc.pid)
     start = time.time() + 0.5  # the clients connect and run half a second before counting
-    results = run_clients("worker", n, (server.port, engine, start, start + seconds, share))
-    done = sum(r[0] for r in results)
-    times = [t for r in results for t in r[1]]
-    idle = sum(r[2] for r in results)
+    if kind == "python":
+        results = run_clients("worker", n, (server.port, engine, start, start + seconds, protocol))
+        done = sum(r[0] for r in results)
+        times = [t for r in results for t in r[1]]
+        idle = sum(r[2] for r in results)
+        resets = sum(r[3] for r in results)
+        median = statistics.median(times) if times else float("nan")
+    else:
+        p = subprocess.run([kind, "--url", "http://127.0.0.1:%d" % server.port, "--clients", str(n),
+                            "--start", repr(start), "--seconds", repr(seconds), "--engine", engine]
+                           + (["--separate-lease"] if protocol == "separate" else []),
+                           capture_output=True, text=True, timeout=600)
+        answer = json.loads(p.stdout) if p.stdout.strip() else {}
+        if p.returncode != 0:
+            raise RuntimeError("queue_fake_workers exit %d: %s %s" % (p.returncode, answer.get("errors"),
+                                                                     p.stderr[-500:]))
+        done, idle, resets = answer["cycles"], answer["idle"], 0
+        median = answer["median_seconds"] if answer["median_seconds"] is not None else float("nan")
     if idle:
         raise RuntimeError("the queue ran dry: %d leases found nothing" % idle)
-    return done / seconds, statistics.median(times) if times else float("nan"), sum(r[3] for r in results)
+    return done / seconds, median, resets, (cpu_seconds(server.proc.pid) - cpu0) / max(done, 1)
 
 
 def queued(server):
@@ -242,7 +282,9 @@ def one_reader(server, path, engine, n=20):
     return statistics.median(times), size
 
 
-def measure(bin_dir, workdir, share=True):
+def measure(bin_dir, workdir, clients):
+    """The readers, the map and the cycles of one server; the cycles once per client of
+    `clients` ([(kind, protocol)], the first also fills the map)."""
     s = Server(bin_dir, workdir)
     out = {}
     try:
@@ -257,25 +299,35 @@ def measure(bin_dir, workdir, share=True):
         t0 = time.time()
         while any(json.loads(s.call("GET", "/api/v1/sweeps/%d" % i)[1])["counts"]["queued"] > 0
                   for i in map_sweeps):
-            cycles(s, engine, 32, 5.0)
+            cycles(s, engine, 32, 5.0, clients[0])
         print("  map filled in %.1f s" % (time.time() - t0), file=sys.stderr)
         out["readers"] = readers(s, "/api/v1/phase-map?phi=0.4&sweep=%d" % map_sweeps[0])
         out["map"] = one_reader(s, "/api/v1/phase-map?phi=0.4", engine)
         out["cycles"] = {}
         rate = 100.0
-        for n in CLIENTS:
-            rounds = []
-            for _ in range(ROUNDS):
-                while queued(s) < rate * ROUND_SECONDS * 2 + 2000:  # never dry within a round
-                    create(s, sweep_body("feed", 0, phis.pop(0)))
-                rounds.append(cycles(s, engine, n, ROUND_SECONDS, share))
-                rate = max(rate, rounds[-1][0])
-            out["cycles"][n] = (statistics.median(r[0] for r in rounds),
-                                statistics.median(r[1] for r in rounds), sum(r[2] for r in rounds))
-            print("  %d clients: %.1f cycles/s" % (n, out["cycles"][n][0]), file=sys.stderr)
+        for client in clients:
+            out["cycles"][client] = {}
+            for n in CLIENTS:
+                rounds = []
+                for _ in range(ROUNDS):
+                    while queued(s) < rate * ROUND_SECONDS * 2 + 2000:  # never dry within a round
+                        create(s, sweep_body("feed", 0, phis.pop(0)))
+                    rounds.append(cycles(s, engine, n, ROUND_SECONDS, client))
+                    rate = max(rate, rounds[-1][0])
+                out["cycles"][client][n] = (statistics.median(r[0] for r in rounds),
+                                            statistics.median(r[1] for r in rounds),
+                                            sum(r[2] for r in rounds),
+                                            statistics.median(r[3] for r in rounds))
+                print("  %s: %d clients: %.1f cycles/s" % (client_name(client), n,
+                      out["cycles"][client][n][0]), file=sys.stderr)
     finally:
         s.stop()
     return out
+
+
+def client_name(client):
+    kind, protocol = client
+    return "%s workers, %s" % ("Python" if kind == "python" else "C++ (the worker's client)", protocol)
 
 
 def main():
@@ -286,23 +338,28 @@ def main():
     ap.add_argument("--bin-rev", help="the commit --bin was built from, when its folder is not "
                     "in a git checkout (default: the checkout's HEAD)")
     ap.add_argument("--baseline-rev", help="the same for --baseline")
-    ap.add_argument("--baseline-client", action="store_true",
-                    help="measure the baseline's cycles with fake workers that open a connection "
-                    "per request, as compaction-worker did until 2026-12-03 (without --baseline: "
-                    "the --bin server measured twice, once with either client)")
+    ap.add_argument("--baseline-protocol", default="kept", choices=("next", "kept", "separate"),
+                    help="the cycle's protocol for the baseline's Python workers: kept for a "
+                    "server without next_lease (before 2026-12-03) [kept]")
+    ap.add_argument("--fake-workers", default=os.path.join(REPO, "build", "bin", "queue_fake_workers"),
+                    help="the C++ fake workers (bench/server/fake_workers.cpp) [build/bin/...]")
     a = ap.parse_args()
+    if not os.access(a.fake_workers, os.X_OK):
+        sys.exit("queue_bench.py: --fake-workers %s is not a program (build the target "
+                 "queue_fake_workers)" % a.fake_workers)
     workdir = tempfile.mkdtemp(prefix="queue-bench-")
     load_before = os.getloadavg()
     try:
-        runs = []
-        if a.baseline or a.baseline_client:
-            base = a.baseline or a.bin
-            rev = a.baseline_rev or (a.bin_rev if not a.baseline else None) or revision_of(base)
-            print("measuring the baseline %s ..." % base, file=sys.stderr)
-            runs.append(("baseline (at %s%s)" % (rev, ", a connection per request" if a.baseline_client else ""),
-                         measure(base, workdir, share=not a.baseline_client)))
+        runs = []  # (server's name, its measures, its clients)
+        if a.baseline:
+            rev = a.baseline_rev or revision_of(a.baseline)
+            print("measuring the baseline %s ..." % a.baseline, file=sys.stderr)
+            clients = [("python", a.baseline_protocol)]
+            runs.append(("baseline (at %s)" % rev, measure(a.baseline, workdir, clients), clients))
         print("measuring %s ..." % a.bin, file=sys.stderr)
-        runs.append(("this build (at %s)" % (a.bin_rev or revision_of(a.bin)), measure(a.bin, workdir)))
+        clients = [("python", "next"), (a.fake_workers, "next")]
+        runs.append(("this build (at %s)" % (a.bin_rev or revision_of(a.bin)),
+                     measure(a.bin, workdir, clients), clients))
     except BaseException:
         shutil.rmtree(workdir, ignore_errors=True)
         raise
@@ -315,20 +372,23 @@ def main():
              % (" ".join(sys.argv[1:]), rev, time.strftime("%Y-%m-%d"), os.cpu_count(),
                 load_before[0], load_after[0]), "",
              "Lease + complete cycles per second (median of %d rounds of %.0f s; in brackets the "
-             "median cycle's time, and the connections the server reset in the %d rounds, each "
-             "request sent again):" % (ROUNDS, ROUND_SECONDS, ROUNDS), "",
-             "| server | " + " | ".join("%d clients" % n for n in CLIENTS) + " |",
-             "|---|" + "---|" * len(CLIENTS)]
-    for name, m in runs:
-        lines.append("| %s | " % name + " | ".join(
-            "%.0f (%.1f ms, %d resets)" % (m["cycles"][n][0], m["cycles"][n][1] * 1e3, m["cycles"][n][2])
-            for n in CLIENTS) + " |")
+             "median cycle's time, the server's CPU time per cycle (from /proc, the round's "
+             "connecting half second included), and the connections the server reset in the %d "
+             "rounds, each request sent again):" % (ROUNDS, ROUND_SECONDS, ROUNDS), "",
+             "| server | fake workers, protocol | " + " | ".join("%d clients" % n for n in CLIENTS) + " |",
+             "|---|---|" + "---|" * len(CLIENTS)]
+    for name, m, clients in runs:
+        for client in clients:
+            c = m["cycles"][client]
+            lines.append("| %s | %s | " % (name, client_name(client)) + " | ".join(
+                "%.0f (%.1f ms, CPU %.2f ms, %d resets)" % (c[n][0], c[n][1] * 1e3, c[n][3] * 1e3, c[n][2])
+                for n in CLIENTS) + " |")
     lines += ["", "Dashboard readers and the map (a reader that failed, reset or silent for 60 s, "
               "counts with the time it waited; statuses: HTTP codes or the client's error):", "",
               "| server | %d readers of a 2 000-job map: p50 / p90, answer, failed | the same polling "
               "with If-None-Match: p50 / p90, status, answer | 10 000-job map after a change, one client: median, answer |"
               % READERS, "|---|---|---|---|"]
-    for name, m in runs:
+    for name, m, _ in runs:
         first, again = m["readers"]
         poll = ("%.0f / %.0f ms, %s, %.0f B" % (again["p50"] * 1e3, again["p90"] * 1e3,
                                                 ",".join(map(str, again["statuses"])), again["bytes"])
@@ -338,9 +398,10 @@ def main():
                         first["failed"], poll,
                         m["map"][0] * 1e3, m["map"][1] / 1e3))
     if len(runs) == 2:
-        b, t = runs[0][1], runs[1][1]
-        lines += ["", "Ratios (this build / baseline): cycles " + ", ".join(
-            "%.1fx at %d" % (t["cycles"][n][0] / b["cycles"][n][0], n) for n in CLIENTS) +
+        (_, b, b_clients), (_, t, t_clients) = runs
+        bc, tc = b["cycles"][b_clients[0]], t["cycles"][t_clients[0]]
+        lines += ["", "Ratios (this build / baseline, the Python workers of both): cycles " + ", ".join(
+            "%.2fx at %d" % (tc[n][0] / bc[n][0], n) for n in CLIENTS) +
             "; readers' p50 %.1fx faster; the 10 000-job map %.1fx faster."
             % (b["readers"][0]["p50"] / t["readers"][0]["p50"], b["map"][0] / t["map"][0])]
     with open(a.out, "w") as f:
