@@ -5,12 +5,15 @@ on one thread, then writes docs/reference.md: per resolution the label, both rea
 with their uncertainties, the plateau stress, the cost; the change between levels, and where
 three levels allow it the observed order and a Richardson extrapolation.
 
-usage: bench/reference/reference.py [--cells 20,30,40,60,80] [--runs DIR] [--bin build/bin]
-                                    [--summarise-only] [--out docs/reference.md]
+usage: bench/reference/reference.py [--cells 20,30,40,60,80] [--examples a,b] [--runs DIR]
+                                    [--bin build/bin] [--summarise-only] [--out docs/reference.md]
   --runs DIR         where the bundles live (default ./out/reference): a run whose bundle is
                      there is not made again
+  --examples a,b     the examples to run (both are summarised)
   --summarise-only   make no run, only summarise the bundles that exist
-The text below the notes marker of an existing docs/reference.md is kept.
+A level whose bundle is not in --runs keeps its row of the existing --out (a run made on an
+earlier machine: bench/lib/kept_rows.py), read back into the summary. The text below the notes
+marker of an existing docs/reference.md is kept.
 Cost: CPU seconds grow as (cells)^3; on this machine 40 cells takes about 490 s of CPU per run,
 60 cells about 3.4 times that, 80 cells about 8 times.
 """
@@ -23,6 +26,9 @@ import shutil
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import kept_rows  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 EXAMPLES = {"a": 1e-5, "b": 4e-4}
@@ -89,6 +95,62 @@ def measure(bin_dir, runs, ex, cells):
             "strut_cells": cells * (1 - math.sqrt(1 - PHI))}
 
 
+TABLE_HEADER = "| cells per unit cell | cells per strut | label (confidence) |"
+
+
+LEVELS_MARK = "<!-- levels at full precision, read back on another machine: "
+
+
+def earlier_levels(out):
+    """{example: {cells: measure}} of an existing report, in measure()'s form: from the levels
+    it keeps at full precision, else read back from its tables (4 significant digits)."""
+    levels = {}
+    if not os.path.exists(out):
+        return levels
+    text = open(out).read()
+    if LEVELS_MARK in text:
+        kept = json.loads(text.split(LEVELS_MARK, 1)[1].split(" -->", 1)[0])
+        return {ex: {int(c): dict(m, kept=True) for c, m in by_cells.items()}
+                for ex, by_cells in kept.items()}
+    for ex in EXAMPLES:
+        head = "## (%s): R = " % ex
+        if head not in text:
+            continue
+        part = text[text.index(head):]
+        tmp = out + ".part"
+        with open(tmp, "w") as f:
+            f.write(part)
+        try:
+            rows = kept_rows.table_rows(tmp, TABLE_HEADER)
+        finally:
+            os.remove(tmp)
+        for r in rows:
+            cells = int(r[0])
+            label, confidence = kept_rows.label(r[2])
+            fit, fit_err = kept_rows.plus_minus(r[3])
+            transit, transit_err = kept_rows.plus_minus(r[4])
+            cpu = kept_rows.number(r[9])
+            levels.setdefault(ex, {})[cells] = {
+                "cells": cells, "label": label, "confidence": confidence, "fit": fit,
+                "fit_err": fit_err, "transit": transit, "transit_err": transit_err,
+                "n_r": int(r[5]) if r[5].isdigit() else None, "plateau": kept_rows.number(r[6]),
+                "particles": int(r[7]), "steps": int(r[8]), "wall": math.nan,
+                "cpu": math.nan if cpu is None else cpu,
+                "strut_cells": cells * (1 - math.sqrt(1 - PHI)), "kept": True}
+    return levels
+
+
+def levels_of(bin_dir, runs, ex, cells, earlier):
+    """The measures of example ex at the levels `cells`, coarse to fine: from the bundles in
+    runs, else from the earlier report's rows."""
+    out = []
+    for c in sorted(cells):
+        m = measure(bin_dir, runs, ex, c) or earlier.get(ex, {}).get(c)
+        if m:
+            out.append(m)
+    return out
+
+
 def observed_order(c1, c2, c3, f1, f2, f3):
     """p with (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p), h = 1 / cells; None if the
     differences do not shrink monotonically (no asymptotic range)."""
@@ -146,11 +208,11 @@ def converged(ms, key):
                       if p > FORMAL_ORDER else "", fmt(limit, 4), p_used, 100 * gci)}
 
 
-def reference(bin_dir, runs, ex, cells):
-    """The converged reference of example ex from the study's bundles: {"fit", "transit",
-    "plateau": converged() of each, "finest": the finest level's measure() and bundle "dir"};
-    None with fewer than three finished levels."""
-    ms = [m for m in (measure(bin_dir, runs, ex, c) for c in sorted(cells)) if m]
+def reference(bin_dir, runs, ex, cells, out=None):
+    """The converged reference of example ex from the study's bundles (and the rows of the
+    report `out` for levels without one): {"fit", "transit", "plateau": converged() of each,
+    "finest": the finest level's measure and bundle "dir"}; None with fewer than three levels."""
+    ms = levels_of(bin_dir, runs, ex, cells, earlier_levels(out) if out else {})
     if len(ms) < 3:
         return None
     out = {key: converged(ms, key) for key in ("fit", "transit", "plateau")}
@@ -167,15 +229,22 @@ def main():
     ap.add_argument("--cells", default="20,30,40,60,80")
     ap.add_argument("--runs", default=os.path.join(REPO, "out", "reference"))
     ap.add_argument("--bin", default=os.path.join(REPO, "build", "bin"))
+    ap.add_argument("--examples", default=",".join(EXAMPLES))
     ap.add_argument("--summarise-only", action="store_true")
     ap.add_argument("--out", default=os.path.join(REPO, "docs", "reference.md"))
     a = ap.parse_args()
     cells = sorted(int(c) for c in a.cells.split(","))
     os.makedirs(a.runs, exist_ok=True)
+    examples = [e for e in a.examples.split(",") if e]
+    for e in examples:
+        if e not in EXAMPLES:
+            ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
+    earlier = earlier_levels(a.out)
     if not a.summarise_only:
         for c in cells:
-            for ex in EXAMPLES:
-                run(a.bin, a.runs, ex, c)
+            for ex in examples:
+                if c not in earlier.get(ex, {}):
+                    run(a.bin, a.runs, ex, c)
     lines = ["# The converged reference: (a) and (b) at rising resolution", "",
              "Made by `bench/reference/reference.py %s` (the runs' commands are in the script). "
              "phi = 0.4, S = 4e-3, pseudo-1D, to eps = 0.2, one thread per run; cost is CPU seconds "
@@ -185,8 +254,11 @@ def main():
              "(transit, with the map's resolution as uncertainty). Plateau: mean top plate stress "
              "over eps in [0.05, 0.2], / q_y. Struts are 1 - sqrt(1 - phi) = 0.225 of a unit cell "
              "thick." % " ".join(sys.argv[1:]), ""]
+    kept, all_levels = 0, {}
     for ex, R in EXAMPLES.items():
-        ms = [m for m in (measure(a.bin, a.runs, ex, c) for c in cells) if m]
+        ms = levels_of(a.bin, a.runs, ex, cells, earlier)
+        kept += sum(1 for m in ms if m.get("kept"))
+        all_levels[ex] = {m["cells"]: {k: v for k, v in m.items() if k != "kept"} for m in ms}
         lines += ["## (%s): R = %g" % (ex, R), "",
                   "| cells per unit cell | cells per strut | label (confidence) | c_b/V fit | c_b/V transit | N_r by eps 0.2 | plateau sigma_top/q_y | particles | steps | CPU [s] |",
                   "|---|---|---|---|---|---|---|---|---|---|"]
@@ -208,6 +280,10 @@ def main():
             if len(ms) >= 3:
                 lines.append("- %s: %s" % (key, converged(ms, key)["how"]))
         lines.append("")
+    if kept:
+        lines += ["%d of the levels above are kept from the report as it was: their runs were made "
+                  "on an earlier machine, whose bundles are not in --runs." % kept, ""]
+    lines += [LEVELS_MARK + json.dumps(all_levels, allow_nan=True) + " -->", ""]
     # What people wrote below the marker (the reading of the numbers) is kept.
     marker = "<!-- notes: kept when the tables are made again -->"
     notes = ""

@@ -9,15 +9,18 @@ wall time of each run; (a) is the non-reflecting band, whose c_b/V should be 1/(
 
   bench/validation/solid_fractions.py --phi 0.3,0.4,0.5,0.6 --jobs 2 --bin build/bin
 
-A missing phi is left out of the table (the runs of the others are cached in --work, so the
-study can be made in parts). --pore-contact split_fields runs the engine's two-field contact
-across closing pores (docs/engine.md, "Pore contact") and writes its own table.
+A run that is neither in --work nor made now keeps its row of the existing table (made on an
+earlier machine: bench/lib/kept_rows.py), or is listed as not run yet; the runs are cached in
+--work, so the study can be made in parts. --pore-contact split_fields runs the engine's
+two-field contact across closing pores (docs/engine.md, "Pore contact") and writes its own
+table.
 """
 import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import kept_rows  # noqa: E402
 import runs  # noqa: E402
 from examples import EXAMPLES  # noqa: E402
 
@@ -65,6 +68,9 @@ def main():
         dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
     classify_bin = os.path.join(a.bin, "compaction-classify")
 
+    header = "| example | phi | cells per unit cell (per strut) | label (confidence) |"
+    earlier = {(r[0], r[1]): "| " + " | ".join(r) + " |" for r in kept_rows.table_rows(a.out, header)}
+    kept = 0
     lines = ["# The six examples at phi = 0.3 to 0.6 (default resolution%s)"
              % (", two velocity fields across closing pores" if split else ""), "",
              "Made by `bench/validation/solid_fractions.py %s`. Pseudo-1D, to full density "
@@ -80,6 +86,10 @@ def main():
     for e in examples:
         for phi in phis:
             if name(e, phi) not in dirs:
+                row = earlier.get(("(%s)" % e, "%g" % phi))
+                if row:
+                    lines.append(row)
+                    kept += 1
                 continue
             d = dirs[name(e, phi)]
             s = runs.summary(d)
@@ -95,7 +105,10 @@ def main():
                 "-" if transit is None else "%+.1f %%" % (100 * (transit / ideal - 1)),
                 c.get("n_reflections"), s["wall_seconds"]))
     missing = ["(%s) at phi = %g" % (e, phi) for e in examples for phi in phis
-               if name(e, phi) not in dirs]
+               if name(e, phi) not in dirs and ("(%s)" % e, "%g" % phi) not in earlier]
+    if kept:
+        lines += ["", "%d of these rows were kept from the table as it was: their runs were made on "
+                  "an earlier machine, whose bundles are not in --work." % kept]
     if missing:
         lines += ["", "Not run yet: " + ", ".join(missing) + "."]
     with open(a.out, "w") as f:
