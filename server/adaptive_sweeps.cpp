@@ -145,9 +145,11 @@ void AdaptiveSweeps::job_ended(Store& store, const PlannerLimits& limits, std::i
   advance_each(store, limits, store.reads.live_adaptive_sweeps_of_job(job_id), now);
 }
 
-void AdaptiveSweeps::advance_each(Store& store, const PlannerLimits& limits,
-                                  const std::vector<std::int64_t>& sweep_ids, Millis now) {
-  for (std::int64_t id : sweep_ids) advance(store, limits, id, now);
+std::size_t AdaptiveSweeps::advance_each(Store& store, const PlannerLimits& limits,
+                                         const std::vector<std::int64_t>& sweep_ids, Millis now) {
+  std::size_t added = 0;
+  for (std::int64_t id : sweep_ids) added += advance(store, limits, id, now);
+  return added;
 }
 
 void AdaptiveSweeps::advance_all(Store& store, const PlannerLimits& limits, Millis now) {

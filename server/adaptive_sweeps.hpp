@@ -36,8 +36,9 @@ class AdaptiveSweeps {
   std::size_t advance(Store& store, const PlannerLimits& limits, std::int64_t sweep_id, Millis now);
   // advance() for every live adaptive sweep that holds the job (it succeeded or failed for good).
   void job_ended(Store& store, const PlannerLimits& limits, std::int64_t job_id, Millis now);
-  // advance() for each of these sweeps (a completion's transaction found them holding its job).
-  void advance_each(Store& store, const PlannerLimits& limits,
+  // advance() for each of these sweeps (a completion's transaction found them holding its job);
+  // returns the jobs added.
+  std::size_t advance_each(Store& store, const PlannerLimits& limits,
                     const std::vector<std::int64_t>& sweep_ids, Millis now);
   // advance() for every live adaptive sweep: at start (a result may have been stored just before
   // the server stopped) and after leases expire (a job may have failed for good).

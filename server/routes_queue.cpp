@@ -131,7 +131,13 @@ void complete(App& app, const httplib::Request& req, httplib::Response& res) {
   spdlog::info("job succeeded id={} status={} class={} artifacts={}", id, r.status,
                r.cls.value_or("-"), r.artifacts.size());
   if (follow.checkpoint) app.store.checkpoints.remove_if_done(id);
-  app.adaptive.advance_each(app.store, app.limits, follow.adaptive_sweeps, now_ms());
+  const std::size_t planned =
+      app.adaptive.advance_each(app.store, app.limits, follow.adaptive_sweeps, now_ms());
+  // The queue was empty for the next lease, but the result let an adaptive sweep plan on: the
+  // worker takes one of the new points now rather than after its poll interval.
+  if (next && !follow.next && planned > 0) {
+    follow.next = app.store.queue.lease(next->worker, next->engine_version, now_ms());
+  }
   json answer = {{"job_id", id}, {"state", "succeeded"}, {"status", r.status}};
   if (next) answer["next"] = follow.next ? lease_answer(app, *follow.next, next->worker) : json(nullptr);
   send_json(res, 200, answer);

@@ -339,6 +339,41 @@ TEST_F(ApiTest, ACompleteThatAsksForTheNextJobAnswersItsLeaseOrNull) {
   EXPECT_TRUE(json::parse(last->body)["next"].is_null()) << last->body;
 }
 
+// The last queued job's result lets an adaptive sweep plan new points: the complete that asks
+// for the next job gets one of them, planned after its own transaction found the queue empty.
+TEST_F(ApiTest, ACompleteThatDrainsTheQueueGetsAPointItsResultPlanned) {
+  auto created = post("/api/v1/sweeps",
+                      R"({"name": "map", "phi": 0.4, "numerics": {"cells_per_unit": 8, "eps_end": 0.05},
+                          "adaptive": {"S": {"min": 0.01, "max": 0.1}, "R": {"min": 1e-5, "max": 1e-1},
+                                       "initial": {"S": 2, "R": 2}, "resolution_decades": 0.5,
+                                       "budget": 10, "in_flight": 1}})",
+                      submit);
+  ASSERT_EQ(created->status, 201) << created->body;
+  const json ask = {{"worker", "w1"}, {"engine_version", compaction::engine_version()}};
+  std::vector<json> leases;
+  for (int i = 0; i < 4; ++i) leases.push_back(lease());
+  EXPECT_EQ(post("/api/v1/leases", ask.dump(), worker)->status, 204) << "the initial grid is leased";
+  json next;
+  for (const json& l : leases) {  // labels differ across R = 1e-3: the planner splits the box
+    compaction::SceneParams p;
+    ASSERT_TRUE(compaction::from_json(l["scene"], p).empty());
+    json summary = compaction::summary_json(p, compaction::RunResult{});
+    summary["classification"] = {{"class", p.R < 1e-3 ? "a" : "b"}, {"confidence", 0.9}};
+    const std::string path = "/api/v1/jobs/" + std::to_string(l["job_id"].get<int>()) + "/complete";
+    auto r = client->Post(path.c_str(), auth(worker),
+                          {{"lease_token", l["lease_token"], "", "text/plain"},
+                           {"summary", summary.dump(), "summary.json", "application/json"},
+                           {"next_lease", ask.dump(), "", "application/json"}});
+    ASSERT_EQ(r->status, 200) << r->body;
+    next = json::parse(r->body)["next"];
+    if (&l != &leases.back()) {
+      EXPECT_TRUE(next.is_null()) << "nothing was queued: " << r->body;
+    }
+  }
+  ASSERT_TRUE(next.is_object()) << "the last result planned a point and its upload leased it";
+  EXPECT_GT(next["job_id"].get<int>(), leases.back()["job_id"].get<int>());
+}
+
 TEST_F(ApiTest, AnInternalErrorSaysNothingButAnIdThatIsInTheLog) {
   // A handler that fails the way a store call does, with SQL in the message.
   httplib::Server bare;
