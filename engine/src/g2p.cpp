@@ -37,11 +37,13 @@ struct GridView {
 // Grid to particle transfer for the n particles of one block, up to the trial Fe. Every array
 // is __restrict, so that the compiler vectorises it across the block: the stencil's nine nodes
 // are loaded per particle (gathers), the rest is arithmetic without branches.
-// kSplit: the offset of split_fields' second field in the nodes, the node normals and the
-// particles' normals (else 0 and null).
+// kSplit: the offset of split_fields' second field in the nodes, the particles' field bits
+// (as p2g set them) and their normals (else 0 and null). The pointers reach transfer_block as
+// __restrict parameters: without that promise the stores to the normals might alias the
+// gathered nodes, and the loop would not vectorise.
 struct SplitView {
   std::ptrdiff_t second;
-  const std::uint16_t* bits;  // the particles' field bits, as p2g set them
+  const std::uint16_t* bits;
   double *pnx, *pny;
 };
 
@@ -51,14 +53,17 @@ template <bool kApic, bool kExact, bool kSplit>
     const Node* __restrict nodes, const double* __restrict mx, const double* __restrict my,
     double* __restrict px, double* __restrict py, double* __restrict pvx,
     double* __restrict pvy, Mat2* __restrict pc, const Mat2* __restrict pf,
-    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk, const SplitView& split) {
+    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk, std::ptrdiff_t second,
+    const std::uint16_t* __restrict field_bits, double* __restrict pnx, double* __restrict pny) {
   const double dx = v.dx, inv_dx = v.inv_dx, c_scale = v.c_scale, alpha = v.alpha;
   for (std::size_t i = 0; i < n; ++i) {
     // The node k as this particle sees it: its field's (split_fields) or the one field.
-    [[maybe_unused]] unsigned bits = 0;
-    if constexpr (kSplit) bits = split.bits[i];
+    [[maybe_unused]] std::ptrdiff_t bits = 0;
+    if constexpr (kSplit) bits = field_bits[i];
+    // The field's offset by a mask (all ones or zero, 64-bit integer operations that AVX2 has),
+    // not a select or a product, so that the loop still vectorises.
     auto node = [&](std::ptrdiff_t k, int pair) -> const Node& {
-      if constexpr (kSplit) k += (bits >> pair) & 1u ? split.second : 0;
+      if constexpr (kSplit) k += -((bits >> pair) & 1) & second;
       return nodes[k];
     };
     const auto kx = kernel::quadratic(px[i] * inv_dx + v.gxo);
@@ -99,11 +104,11 @@ template <bool kApic, bool kExact, bool kSplit>
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
     pc[i] = c;
     if constexpr (kSplit) {  // a material normal follows F^-T: dn/dt = -C^T n
-      const double nx = split.pnx[i], ny = split.pny[i];
+      const double nx = pnx[i], ny = pny[i];
       double ux = nx - dt * (c.xx * nx + c.yx * ny), uy = ny - dt * (c.xy * nx + c.yy * ny);
       const double len = std::sqrt(ux * ux + uy * uy);
       if (len > 0.0) ux /= len, uy /= len;
-      split.pnx[i] = ux, split.pny[i] = uy;
+      pnx[i] = ux, pny[i] = uy;
     }
     double vx_new = vx, vy_new = vy;
     if constexpr (!kApic) {
@@ -166,7 +171,8 @@ struct Gather {
       transfer_block<kApic, kExact, kSplit>(
           nb, dt, view, g.col.data(), g.arrays.nodes.data(), g.arrays.mx.data(),
           g.arrays.my.data(), P.x.data() + b0, P.y.data() + b0, P.vx.data() + b0,
-          P.vy.data() + b0, P.C.data() + b0, P.Fe.data() + b0, &gb, &blk, split);
+          P.vy.data() + b0, P.C.data() + b0, P.Fe.data() + b0, &gb, &blk, split.second,
+          split.bits, split.pnx, split.pny);
       return_map_block<false>(blk, nb, s.material);
       if (any_redo(blk, nb)) return_map_block<true>(blk, nb, s.material);
       for (std::size_t i = 0; i < nb; ++i) {

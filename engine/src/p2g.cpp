@@ -115,12 +115,13 @@ static_assert(sizeof(Lanes) == sizeof(Node));
 constexpr std::size_t kScatterBlock = 32;
 struct ScatterBlock {
   static constexpr std::size_t n = kScatterBlock;
-  alignas(64) std::ptrdiff_t col0[n], row0[n];  // first stencil column (into col) and node row
+  alignas(64) std::ptrdiff_t cols[3][n], row0[n];  // the stencil's node columns, first node row
   alignas(64) int base[n];                      // first stencil row
   alignas(64) double wx[3][n], wdx[3][n];       // x-weights, x-weighted offsets
   alignas(64) double wm[3][n], qx[3][n], qy[3][n], qxx[3][n], qyx[3][n];  // per stencil row
   alignas(64) double wy[3][n], dwx[3][n], dwy[3][n];  // bspline, pic_flip only
   alignas(64) double sxx[n], sxy[n], syy[n], mvx[n], mvy[n];
+  alignas(64) std::int64_t bits[n];             // split_fields: the field of each pair
 };
 
 // The per-particle part of the scatter for one block: arithmetic only, vectorised across it.
@@ -132,6 +133,7 @@ template <bool kApic, bool kExact>
     ScatterBlock* __restrict sb) {
   const double dx = g.dx, inv_dx = g.inv_dx, gxo = g.gx, gyo = g.gy;
   const std::ptrdiff_t nx = g.nx;
+  const int* __restrict col = g.col.data();  // a stencil column's node column (periodic wrap)
   const double stress = kExact ? 0.0 : -dt * s.scale;
   const double impulse = -dt * s.vol0 * inv_dx;  // exact gradient: dw is per grid cell
   for (std::size_t i = 0; i < n; ++i) {
@@ -144,7 +146,8 @@ template <bool kApic, bool kExact>
       q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
     }
     const double mvx = m * pvx[i], mvy = m * pvy[i];
-    sb->col0[i] = kx.base + 1;
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) sb->cols[a][i] = col[kx.base + 1 + a];
     sb->row0[i] = ky.base * nx;
     sb->base[i] = ky.base;
     // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
@@ -169,6 +172,31 @@ template <bool kApic, bool kExact>
   }
 }
 
+// split_fields: the field of each pair of the block's particles and their stencil nodes, bit
+// 3 b + a set when the particle's normal opposes node (a, b)'s (pore_contact::second_field), as
+// a loop across the block that vectorises (the node normals gathered).
+[[gnu::always_inline]] inline void choose_fields_block(
+    std::size_t n, std::ptrdiff_t nx, const NodeNormal* __restrict normals,
+    const double* __restrict pnx,
+    const double* __restrict pny, ScatterBlock* __restrict sb) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const double px = pnx[i], py = pny[i];
+    const std::ptrdiff_t cs[3] = {sb->cols[0][i], sb->cols[1][i], sb->cols[2][i]};
+    std::int64_t bits = 0;
+#pragma GCC unroll 3
+    for (int b = 0; b < 3; ++b) {
+      const std::ptrdiff_t row = sb->row0[i] + b * nx;
+#pragma GCC unroll 3
+      for (int a = 0; a < 3; ++a) {
+        const NodeNormal m = normals[row + cs[a]];
+        bits |= static_cast<std::int64_t>(pore_contact::second_field(px, py, m.x, m.y))
+                << (3 * b + a);
+      }
+    }
+    sb->bits[i] = bits;
+  }
+}
+
 // The scatter of particles [begin, end) into `out`, one block at a time (run_loop in
 // simd_dispatch.hpp makes its variants and copies). The AVX2 copy updates a node as Lanes.
 // kSplit: a pair whose particle normal opposes the node's goes into the second field.
@@ -179,7 +207,6 @@ struct Scatter {
                                          Targets to, std::size_t begin, std::size_t end,
                                          double dt) {
     const std::ptrdiff_t nx = g.nx;
-    const int* col = g.col.data();
     Node* const grid_nodes = to.grid->nodes.data();
     Node* const own_nodes = to.own->nodes.data();
     double* const mxy[2][2] = {{to.grid->mx.data(), to.grid->my.data()},
@@ -192,15 +219,17 @@ struct Scatter {
       prepare_block<kApic, kExact>(nb, dt, s, g, P.mass, P.x.data() + b0, P.y.data() + b0,
                                    P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
                                    P.tau.data() + b0, &sb);
+      if constexpr (kSplit) {
+        choose_fields_block(nb, nx, normals, P.nx.data() + b0, P.ny.data() + b0, &sb);
+      }
       for (std::size_t k = 0; k < nb; ++k) {
         const bool own = to.to_own(sb.base[k]);
         Node* const nodes = own ? own_nodes : grid_nodes;
         [[maybe_unused]] double* const mx = mxy[own][0];
         [[maybe_unused]] double* const my = mxy[own][1];
-        const std::ptrdiff_t cs[3] = {col[sb.col0[k]], col[sb.col0[k] + 1], col[sb.col0[k] + 2]};
-        [[maybe_unused]] unsigned bits = 0;
-        [[maybe_unused]] double pnx = 0.0, pny = 0.0;
-        if constexpr (kSplit) pnx = P.nx[b0 + k], pny = P.ny[b0 + k];
+        const std::ptrdiff_t cs[3] = {sb.cols[0][k], sb.cols[1][k], sb.cols[2][k]};
+        [[maybe_unused]] std::int64_t bits = 0;
+        if constexpr (kSplit) bits = sb.bits[k];
 #pragma GCC unroll 3
         for (int b = 0; b < 3; ++b) {
           const std::ptrdiff_t row = sb.row0[k] + b * nx;
@@ -212,12 +241,7 @@ struct Scatter {
           for (int a = 0; a < 3; ++a) {
             std::ptrdiff_t i = row + cs[a];
             const double wa = sb.wx[a][k], wd = sb.wdx[a][k];
-            if constexpr (kSplit) {
-              const NodeNormal nn = normals[i];
-              const bool second = pore_contact::second_field(pnx, pny, nn.x, nn.y);
-              i += second ? field2 : 0;
-              bits |= static_cast<unsigned>(second) << (3 * b + a);
-            }
+            if constexpr (kSplit) i += -((bits >> (3 * b + a)) & 1) & field2;
             if constexpr (kAvx2) {
               Lanes n;
               std::memcpy(&n, &nodes[i], sizeof n);
@@ -246,25 +270,57 @@ struct Scatter {
   }
 };
 
-// The node normals of split_fields: sum of w_ip n_p (pore_contact.hpp), particles [begin, end).
-void scatter_normals(const Particles& P, const Grid& g, Targets to, std::size_t begin,
-                     std::size_t end) {
-  const double gxo = g.gx, gyo = g.gy;
-  for (std::size_t p = begin; p < end; ++p) {
-    const auto kx = kernel::quadratic(P.x[p] * g.inv_dx + gxo);
-    const auto ky = kernel::quadratic(P.y[p] * g.inv_dx + gyo);
-    NodeArrays& out = to.to_own(ky.base) ? *to.own : *to.grid;
-    for (int b = 0; b < 3; ++b) {
-      const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(ky.base + b) * g.nx;
-      for (int a = 0; a < 3; ++a) {
-        const std::ptrdiff_t i = row + g.col[kx.base + 1 + a];
-        const double w = kx.w[a] * ky.w[b];
-        out.normal[i].x += w * P.nx[p];
-        out.normal[i].y += w * P.ny[p];
+// The node normals of split_fields: sum of w_ip n_p (pore_contact.hpp), particles [begin, end),
+// a block at a time: the weights and node columns vectorised across the block, then each
+// particle's nine nodes (run_variant makes the baseline and the AVX2 copy).
+struct ScatterNormals {
+  static constexpr std::size_t n = kScatterBlock;
+  struct Block {
+    alignas(64) double wx[3][n], wy[3][n];
+    alignas(64) std::ptrdiff_t cols[3][n], row0[n];
+    alignas(64) int base[n];
+  };
+  template <bool kAvx2>
+  [[gnu::always_inline]] static void run(const Particles& P, const Grid& g, const Targets& to,
+                                         std::size_t begin, std::size_t end) {
+    const double inv_dx = g.inv_dx, gxo = g.gx, gyo = g.gy;
+    const std::ptrdiff_t nx = g.nx;
+    const int* __restrict col = g.col.data();
+    const double* __restrict px = P.x.data();
+    const double* __restrict py = P.y.data();
+    Block blk;
+    for (std::size_t b0 = begin; b0 < end; b0 += n) {
+      const std::size_t nb = std::min(n, end - b0);
+      Block* __restrict bk = &blk;
+      for (std::size_t i = 0; i < nb; ++i) {
+        const auto kx = kernel::quadratic(px[b0 + i] * inv_dx + gxo);
+        const auto ky = kernel::quadratic(py[b0 + i] * inv_dx + gyo);
+#pragma GCC unroll 3
+        for (int a = 0; a < 3; ++a) {
+          bk->wx[a][i] = kx.w[a], bk->wy[a][i] = ky.w[a];
+          bk->cols[a][i] = col[kx.base + 1 + a];
+        }
+        bk->row0[i] = ky.base * nx;
+        bk->base[i] = ky.base;
+      }
+      for (std::size_t k = 0; k < nb; ++k) {
+        NodeNormal* const out = (to.to_own(blk.base[k]) ? to.own : to.grid)->normal.data();
+        const double pnx = P.nx[b0 + k], pny = P.ny[b0 + k];
+#pragma GCC unroll 3
+        for (int b = 0; b < 3; ++b) {
+          const std::ptrdiff_t row = blk.row0[k] + b * nx;
+#pragma GCC unroll 3
+          for (int a = 0; a < 3; ++a) {
+            NodeNormal& m = out[row + blk.cols[a][k]];
+            const double w = blk.wx[a][k] * blk.wy[b][k];
+            m.x += w * pnx;
+            m.y += w * pny;
+          }
+        }
       }
     }
   }
-}
+};
 
 }  // namespace
 
@@ -293,7 +349,8 @@ void p2g(State& s, double dt, ThreadPool& pool) {
   if (split) {
     pool.run([&](int t) {
       if (t > 0) clear_near_rows(g, g.scratch[t - 1], rows, t);
-      scatter_normals(P, g, targets(t), pool.begin(n, t), pool.end(n, t));
+      const Targets to = targets(t);
+      run_variant<ScatterNormals>(P, g, to, pool.begin(n, t), pool.end(n, t));
     });
     if (threads) {
       pool.run([&](int t) {
