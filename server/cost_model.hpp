@@ -14,10 +14,11 @@ inline constexpr double kNsPerParticleStep = 29.0;
 // What the alternatives cost per particle-step, against the default (docs/savings.md).
 inline constexpr double kPicFlipFactor = 1.19;
 inline constexpr double kBsplineFactor = 1.30;
-// Two velocity fields across closing pores (pore_contact = split_fields): 2.03 times the
-// default per particle-step on one thread (median of three runs of bench/results/engine_bench.md,
-// 2026-12-03, after g2p came to read the field p2g chose instead of testing again).
-inline constexpr double kSplitFieldsFactor = 2.03;
+// Two velocity fields across closing pores (pore_contact = split_fields): 1.65 times the
+// default per particle-step on one thread (median of four same-run pairs of engine_bench's
+// reference scene, 1.59-1.71, bench/results/engine_bench.md, 2026-12-03, after the two-field
+// transfers were vectorised; 2.03 before).
+inline constexpr double kSplitFieldsFactor = 1.65;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
 
