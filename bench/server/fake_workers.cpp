@@ -1,20 +1,19 @@
 // Fake workers for bench/server/queue_bench.py: N threads, each a worker with the real worker's
-// HTTP client (worker/api_client.cpp, the same requests, connections and keep-alive as
-// compaction-worker) that leases a job and at once completes it with a minimal valid bundle
-// (the leased scene's summary with a classification, and one 200-byte frames.csv), without the
-// simulation. It counts the lease + complete cycles that start and end within a window of wall
+// HTTP client (worker/api_client.cpp: the same requests and connections as compaction-worker,
+// the next job asked for with each result) that leases a job and at once completes it with a
+// minimal valid bundle (the leased scene's summary with a classification, and one 200-byte
+// frames.csv), without the simulation. It counts the lease + complete cycles that start and end within a window of wall
 // time and prints one JSON object:
 //   {"cycles": N, "median_seconds": t, "idle": leases that found nothing, "errors": [...]}
 //
-// usage: queue_fake_workers --url URL --clients N --start UNIX_SECONDS --seconds S [--token T]
-//        [--engine VERSION]
+// usage: queue_fake_workers --url URL --engine VERSION [--clients N] [--start UNIX_SECONDS]
+//        [--seconds S] [--token T] [--separate-lease]
 // Exit code 0 when every request was answered as a worker expects, 1 otherwise (the errors are
 // in the JSON), 2 on bad flags.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -108,13 +107,14 @@ void worker(const std::string& url, const std::string& token, const std::string&
 int main(int argc, char** argv) {
   compaction::cli::CommandLine cli(
       "queue_fake_workers", "Fake workers for bench/server/queue_bench.py: lease + complete cycles.",
-      "queue_fake_workers --url URL --clients N --start UNIX_SECONDS --seconds S [options]");
+      "--url URL --engine VERSION [options]");
   std::string url, token, engine;
   int clients = 1;
   double start = 0, seconds = 3;
   cli.text("--url", url, "URL", "the server, e.g. http://127.0.0.1:8080", {}, true);
   cli.integer("--clients", clients, {1, 1024}, "N", "workers, one thread each");
-  cli.real("--start", start, {0, 1e11}, "SECONDS", "when counting starts, seconds since the epoch");
+  cli.real("--start", start, {0, 1e11}, "SECONDS",
+           "when counting starts, seconds since the epoch (0: at once)");
   cli.real("--seconds", seconds, {0.1, 3600}, "S", "how long counting lasts");
   cli.text("--token", token, "TOKEN", "the worker token");
   cli.text("--engine", engine, "VERSION", "the engine version the leases name", {}, true);
@@ -123,6 +123,9 @@ int main(int argc, char** argv) {
            "lease with a request of its own after each complete, as compaction-worker did until "
            "2026-12-03, instead of asking for the next job in the complete");
   if (const auto code = cli.parse(argc, argv)) return *code;
+  if (url.empty()) return cli.fail("--url", "is required");
+  if (engine.empty()) return cli.fail("--engine", "is required");
+  if (start == 0) start = now_seconds();
 
   const double end = start + seconds;
   std::vector<Tally> tallies(static_cast<std::size_t>(clients));
