@@ -177,8 +177,7 @@ template <bool kApic, bool kExact>
 // a loop across the block that vectorises (the node normals gathered).
 [[gnu::always_inline]] inline void choose_fields_block(
     std::size_t n, std::ptrdiff_t nx, const NodeNormal* __restrict normals,
-    const double* __restrict pnx,
-    const double* __restrict pny, ScatterBlock* __restrict sb) {
+    const double* __restrict pnx, const double* __restrict pny, ScatterBlock* __restrict sb) {
   for (std::size_t i = 0; i < n; ++i) {
     const double px = pnx[i], py = pny[i];
     const std::ptrdiff_t cs[3] = {sb->cols[0][i], sb->cols[1][i], sb->cols[2][i]};
