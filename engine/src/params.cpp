@@ -142,6 +142,11 @@ std::vector<FieldError> validate(const SceneParams& p) {
   if (p.eps_end > 0.0 || !std::isfinite(p.eps_end)) {
     // eps_end <= 0 means "until fully dense"; a strain beyond 1 - phi would crush solid matter.
     check_range(e, "eps_end", p.eps_end, limits::eps_end);
+    if (p.phi != kSolidColumnPhi && limits::phi.contains(p.phi) && p.eps_end > 1.0 - p.phi + 1e-12) {
+      e.push_back({"eps_end", "must be at most 1 - phi = " + num(1.0 - p.phi) +
+                                  " (full density; beyond it the column crushes solid matter), got " +
+                                  num(p.eps_end)});
+    }
   }
   if (p.snapshot_eps.size() > kMaxSnapshots) {
     e.push_back({"snapshot_eps", "at most " + num(kMaxSnapshots) + " snapshots, got " +

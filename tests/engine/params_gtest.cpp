@@ -171,6 +171,18 @@ TEST(ParamsGtest, SolidColumnNeedsAnExplicitEndStrain) {
   EXPECT_TRUE(validate(p).empty());
 }
 
+TEST(ParamsGtest, EndStrainStopsAtFullDensity) {
+  SceneParams p;
+  p.phi = 0.4;
+  p.eps_end = 0.6;  // full density, as the solid-fraction studies run
+  EXPECT_TRUE(validate(p).empty());
+  p.eps_end = 0.61;  // within the range of eps_end, but it would crush the solid struts
+  ASSERT_TRUE(has_error(validate(p), "eps_end"));
+  EXPECT_NE(validate(p)[0].message.find("1 - phi = 0.6"), std::string::npos) << validate(p)[0].message;
+  p.phi = 0.3;  // 1 - phi = 0.7: the same strain is allowed at a lower solid fraction
+  EXPECT_TRUE(validate(p).empty());
+}
+
 TEST(ParamsGtest, JsonRoundTripKeepsEveryField) {
   SceneParams p;
   p.S = 0.02, p.R = 3e-4, p.phi = 0.55, p.geometry = Geometry::full2d, p.n_cols = 5;
