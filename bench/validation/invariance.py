@@ -9,8 +9,11 @@ the dimensionless problem does not), and nu = 0.2 and 0.35. It writes a table of
 readings of c_b/V (docs/classifier.md) and N_r, and checks each against the reference material:
 same label and N_r, c_b/V within 5 %; scaled q_y and rho agree to round-off (1e-9).
 
+The pore contact is the presets' (--pore-contact auto: two velocity fields across closing pores
+where the grid resolves them); --pore-contact single_field measures the one-field engine.
+
 usage: bench/validation/invariance.py [--cells-per-strut 4.5,9] [--examples a,b] [--work DIR]
-                                     [--bin DIR] [--jobs N] [--out FILE]
+                                     [--bin DIR] [--jobs N] [--pore-contact MODE] [--out FILE]
 Exit code 1 when a variant differs at the finest resolution asked for.
 """
 import argparse
@@ -70,28 +73,39 @@ def main():
     ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "invariance"))
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
     ap.add_argument("--jobs", type=int, default=1)
-    ap.add_argument("--out", default=os.path.join(runs.ROOT, "docs", "validation", "invariance.md"))
+    ap.add_argument("--pore-contact", default="auto", choices=("auto", "single_field", "split_fields"),
+                    help="the scenes' pore contact [auto, as the default and reference presets]")
+    ap.add_argument("--out", default=None, help="default docs/validation/invariance.md, or "
+                    "invariance-single-field.md with --pore-contact single_field")
     a = ap.parse_args()
+    if a.out is None:
+        a.out = os.path.join(runs.ROOT, "docs", "validation", "invariance.md" if a.pore_contact != "single_field"
+                             else "invariance-single-field.md")
     run_bin, classify_bin = (os.path.join(a.bin, b) for b in ("compaction-run", "compaction-classify"))
     resolutions = [float(c) for c in a.cells_per_strut.split(",")]
     examples = [e for e in a.examples.split(",") if e]
     for e in examples:
         if e not in EXAMPLES:
             ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
-    name = lambda ex, cps, i: "%s-cps%g-%d" % (ex, cps, i)
+    suffix = "" if a.pore_contact == "single_field" else "-" + a.pore_contact  # a run's folder in --work
+    name = lambda ex, cps, i: "%s-cps%g-%d%s" % (ex, cps, i, suffix)
     scenes = {}
     for cps in resolutions:
         for ex in examples:
             for i, (variant, (material, _)) in enumerate(VARIANTS.items()):
-                scenes[name(ex, cps, i)] = dict(BASE, **EXAMPLES[ex], **material, cells_per_strut=cps)
+                scenes[name(ex, cps, i)] = dict(BASE, **EXAMPLES[ex], **material, cells_per_strut=cps,
+                                                pore_contact=a.pore_contact)
     dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=run_bin)
 
     lines = ["# Invariance at fixed S and R: q_y, rho and nu", "",
              "Made by `bench/validation/invariance.py %s`. phi = 0.4, pseudo-1D, to eps = 0.2, "
-             "S = 4e-3; 4.5 cells across a strut is the default preset (20 per unit cell), 9 the "
-             "reference preset (40). Checked against the reference material of the same example "
+             "S = 4e-3, pore contact %s; 4.5 cells across a strut is the default preset's "
+             "resolution (20 per unit cell), 9 the reference preset's (40). Checked against the reference material of the same example "
              "and resolution: the same label and N_r, and c_b/V (both readings) within the "
-             "tolerance of its row." % " ".join(sys.argv[1:]), ""]
+             "tolerance of its row." % (" ".join(sys.argv[1:]), {
+                 "auto": "auto (the presets': two velocity fields across closing pores)",
+                 "split_fields": "split_fields (two velocity fields across closing pores)",
+                 "single_field": "single_field (one velocity field)"}[a.pore_contact]), ""]
     failures = {cps: [] for cps in resolutions}
     for cps, ex in ((c, e) for c in resolutions for e in examples):
         sr = EXAMPLES[ex]
