@@ -42,7 +42,7 @@ std::string label_value(const std::string& v) {
 
 std::string render_metrics(const ScrapeMetrics& scrape, const RequestCounters& requests,
                            const std::vector<std::pair<std::string, std::int64_t>>& workers_seen,
-                           const BuildInfo& build) {
+                           const BuildInfo& build, const GroupCommit::Totals& writes) {
   const StoreMetrics& m = scrape.store;
   std::ostringstream o;
   o << "# HELP compaction_build_info The server's build: engine version and source revision.\n"
@@ -104,6 +104,16 @@ std::string render_metrics(const ScrapeMetrics& scrape, const RequestCounters& r
        "# TYPE compaction_sweeps_total counter\n"
        "compaction_sweeps_total "
     << m.sweeps << "\n";
+  o << "# HELP compaction_completion_transactions_total Write transactions that stored results "
+       "since the server started (completions arriving together share one).\n"
+       "# TYPE compaction_completion_transactions_total counter\n"
+       "compaction_completion_transactions_total "
+    << writes.batches << "\n";
+  o << "# HELP compaction_completion_transaction_items_total Completions those transactions "
+       "held (divided by the transactions: completions per commit).\n"
+       "# TYPE compaction_completion_transaction_items_total counter\n"
+       "compaction_completion_transaction_items_total "
+    << writes.items << "\n";
   o << "# HELP compaction_http_requests_total HTTP requests answered since the server started.\n"
        "# TYPE compaction_http_requests_total counter\n"
        "compaction_http_requests_total{class=\"2xx\"} "

@@ -96,7 +96,9 @@ class QueueStore {
     std::vector<std::int64_t> adaptive_sweeps;  // the live adaptive sweeps that hold the job
   };
   // Writes the artifact files (outside the write lock), then the result and its artifact rows
-  // in one transaction. With `next`, the same transaction also leases the worker's next job
+  // in one transaction, shared with the completions that arrive at the same time (the store's
+  // group_commit; a lost lease changes nothing and leaves the others' rows alone). With `next`,
+  // the same transaction also leases the worker's next job
   // (as lease() would; none when the queue has nothing for it): one commit and one round trip
   // where a worker that goes on would need two.
   LeaseCheck complete(std::int64_t job_id, const std::string& token, const ResultRecord& r,

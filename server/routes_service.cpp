@@ -72,7 +72,8 @@ void register_service_routes(httplib::Server& server, App& app) {
     res.status = 200;
     res.set_content(render_metrics(app.store.reads.scrape_metrics(), app.requests,
                                    app.workers.list(now_ms()),
-                                   {app.store.config().engine_version, compaction::source_revision()}),
+                                   {app.store.config().engine_version, compaction::source_revision()},
+                                   app.store.db.group_commit.totals()),
                     "text/plain; version=0.0.4");
   };
   add_route(server, endpoints::metrics, metrics);

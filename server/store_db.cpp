@@ -30,6 +30,10 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
 
 void StoreDb::wait_durable(std::unique_lock<std::mutex>& lock) {
   lock.unlock();
+  wait_durable();
+}
+
+void StoreDb::wait_durable() {
   if (wal_synced_with_files) {
     files.wait_synced();
   } else {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "artifact_files.hpp"
+#include "group_commit.hpp"
 #include "sqlite.hpp"
 
 namespace compaction::server {
@@ -37,6 +38,8 @@ struct StoreDb {
   StoreConfig config;
   std::mutex write_mutex;
   sqlite::Database writer;
+  // Writes that many workers make at once (completions) share transactions through it.
+  GroupCommit group_commit{writer, write_mutex};
   sqlite::ReaderPool readers;
   ArtifactFiles files;
   sqlite::WalSync wal;
@@ -51,6 +54,8 @@ struct StoreDb {
   // without waiting: a power loss that undoes one leaves a job running or queued, which the
   // rescuer and the leases' tokens already handle.
   void wait_durable(std::unique_lock<std::mutex>& lock);
+  // The same after a commit made without the caller holding the lock (group_commit).
+  void wait_durable();
 };
 
 // Appends an event to a job's log inside the caller's write transaction, counts it in the
