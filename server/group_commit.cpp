@@ -27,7 +27,7 @@ void GroupCommit::run(const std::function<void()>& work) {
   if (me.error) std::rethrow_exception(me.error);
 }
 
-void GroupCommit::write(const std::vector<Item*>& batch) {
+void GroupCommit::write(const std::vector<Item*>& batch) noexcept {
   std::lock_guard lock(write_mutex_);
   try {
     sqlite::Transaction tx(writer_);

@@ -53,8 +53,9 @@ class GroupCommit {
     std::exception_ptr error;
     bool done = false;
   };
-  // One transaction for the batch, under the write lock; errors go to the items.
-  void write(const std::vector<Item*>& batch);
+  // One transaction for the batch, under the write lock; every error goes to the items, so the
+  // leader always gets back to hand the batch over.
+  void write(const std::vector<Item*>& batch) noexcept;
 
   sqlite::Database& writer_;
   std::mutex& write_mutex_;
