@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Run-to-run scatter of an example's band speed at one resolution: the example unperturbed and
+with its particles moved at random (--perturbation, a fraction of their spacing) for several
+seeds, pseudo-1D, phi = 0.4, to --eps-end. A level of the converged reference (docs/reference.md)
+is converged when its mean moves between levels by less than this scatter; one run per level
+cannot tell (b)'s mechanism change from round-off.
+
+usage: bench/reference/scatter.py --example b [--cells-per-strut 4.5] [--pore-contact auto]
+           [--perturbation 0.01] [--seeds 1,2,3,4] [--eps-end 0.2] [--jobs 2]
+           [--work DIR] [--bin build/bin] [--out FILE]
+
+Runs what is missing in --work (a bundle there is not made again), two at a time with --jobs 2,
+each on one thread, then writes --out (default docs/reference/scatter-EXAMPLE-CELLS.md): per run
+the label, N_r and both readings of c_b/V with their uncertainties (docs/classifier.md); over the
+perturbed runs the mean, the sample standard deviation and the range of each reading, and where
+the unperturbed run lies against them.
+"""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import runs  # noqa: E402
+from examples import EXAMPLES  # noqa: E402
+
+PHI = 0.4  # the paper's examples
+
+
+def fmt(v, digits=3):
+    return "-" if v is None else "%.*g" % (digits, v)
+
+
+def stats(values):
+    """Mean, sample standard deviation and range of the finite values; None where too few."""
+    v = [x for x in values if x is not None and math.isfinite(x)]
+    if not v:
+        return None
+    mean = sum(v) / len(v)
+    sd = math.sqrt(sum((x - mean) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else None
+    return {"n": len(v), "mean": mean, "sd": sd, "min": min(v), "max": max(v)}
+
+
+def positive(kind):
+    def parse(text):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError("%r is not a number" % text)
+        if not value > 0:
+            raise argparse.ArgumentTypeError("must be above 0, got %s" % text)
+        return value
+    return parse
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--example", required=True, choices=sorted(EXAMPLES))
+    ap.add_argument("--cells-per-strut", type=positive(float), default=4.5,
+                    help="grid cells across the thinnest strut (the default preset: 4.5)")
+    ap.add_argument("--pore-contact", default="auto", choices=("auto", "single_field", "split_fields"),
+                    help="contact across closing pores (the presets: auto)")
+    ap.add_argument("--perturbation", type=positive(float), default=0.01,
+                    help="random particle offset, a fraction of the particle spacing, at most 0.5")
+    ap.add_argument("--seeds", default="1,2,3,4", help="comma list of the perturbed runs' seeds")
+    ap.add_argument("--eps-end", type=positive(float), default=0.2)
+    ap.add_argument("--jobs", type=positive(int), default=1)
+    ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "scatter"))
+    ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
+    ap.add_argument("--out", default=None)
+    a = ap.parse_args()
+    if a.perturbation > 0.5:
+        ap.error("--perturbation: at most 0.5 of the particle spacing, got %g" % a.perturbation)
+    if a.eps_end >= 1 - PHI:
+        ap.error("--eps-end: below full density (1 - phi = %g), got %g" % (1 - PHI, a.eps_end))
+    try:
+        seeds = [int(s) for s in a.seeds.split(",") if s.strip()]
+    except ValueError:
+        ap.error("--seeds: a comma list of whole numbers, got %r" % a.seeds)
+    if not seeds or len(set(seeds)) != len(seeds):
+        ap.error("--seeds: at least one seed, none twice, got %r" % a.seeds)
+    if a.out is None:
+        a.out = os.path.join(runs.ROOT, "docs", "reference",
+                             "scatter-%s-%g.md" % (a.example, a.cells_per_strut))
+
+    S, R = EXAMPLES[a.example]
+    base = {"S": S, "R": R, "phi": PHI, "cells_per_strut": a.cells_per_strut,
+            "pore_contact": a.pore_contact, "eps_end": a.eps_end, "snapshot_eps": ""}
+    # A run's folder names everything that sets its scene, so --work can hold several studies.
+    prefix = "%s-c%g-%s-e%g" % (a.example, a.cells_per_strut, a.pore_contact, a.eps_end)
+    runs_wanted = [(0.0, 1)] + [(a.perturbation, s) for s in seeds]
+    scenes = {"%s-p%g-s%d" % (prefix, p, s): dict(base, perturbation=p, seed=s) for p, s in runs_wanted}
+    dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
+    classify_bin = os.path.join(a.bin, "compaction-classify")
+
+    rows, perturbed = [], []
+    for (p, s), name in zip(runs_wanted, scenes):
+        r = runs.reading(dirs[name], classify_bin)
+        if r is None:
+            sys.exit("scatter.py: %s did not finish (no summary.json in %s)" % (name, dirs[name]))
+        grid = r["summary"]["grid"]
+        rows.append("| %s | %s | %s (%s) | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
+            "%g" % p, s, r["label"], fmt(r["confidence"], 2), r["n_r"],
+            fmt(r["fit"]), fmt(r["fit_err"], 2), fmt(r["transit"]), fmt(r["transit_err"], 2),
+            r["status"], r["wall"]))
+        if p > 0:
+            perturbed.append(r)
+    unperturbed = runs.reading(dirs[next(iter(scenes))], classify_bin)
+
+    lines = ["# Run-to-run scatter of (%s) at %g cells across a strut (%s)" % (
+                 a.example, a.cells_per_strut, a.pore_contact), "",
+             "Made by `bench/reference/scatter.py %s`. S = %g, R = %g, phi = %g, pseudo-1D, "
+             "%d cells per unit cell (%.2f across the thinnest strut), to eps = %g, one thread "
+             "a run. The perturbed runs move every particle at random by up to %g of the "
+             "particle spacing (`--perturbation`, seeded). c_b/V in both readings (fit: slope of "
+             "the leading edge before its first turn; transit: mean speed of the first leg; "
+             "docs/classifier.md), with the classifier's uncertainty of each run." % (
+                 " ".join(sys.argv[1:]), S, R, PHI, grid["cells_per_unit"],
+                 grid["cells_per_strut"], a.eps_end, a.perturbation), "",
+             "| perturbation | seed | label (confidence) | N_r | c_b/V fit | c_b/V transit | status | wall [s] |",
+             "|---|---|---|---|---|---|---|---|"] + rows + [""]
+    labels = sorted({r["label"] for r in perturbed})
+    lines.append("Over the %d perturbed runs: label%s %s." % (
+        len(perturbed), "" if len(labels) == 1 else "s", ", ".join(labels)))
+    lines.append("")
+    lines.append("| reading | mean | standard deviation | range | sd / mean | unperturbed | unperturbed against the mean |")
+    lines.append("|---|---|---|---|---|---|---|")
+    for key, title in (("fit", "c_b/V fit"), ("transit", "c_b/V transit")):
+        st = stats([r[key] for r in perturbed])
+        u = unperturbed[key]
+        if st is None:
+            lines.append("| %s | - | - | - | - | %s | - |" % (title, fmt(u)))
+            continue
+        lines.append("| %s | %s | %s | %s to %s | %s | %s | %s |" % (
+            title, fmt(st["mean"]), fmt(st["sd"], 2), fmt(st["min"]), fmt(st["max"]),
+            "-" if st["sd"] is None else "%.1f %%" % (100 * st["sd"] / st["mean"]), fmt(u),
+            "-" if u is None else "%+.1f %%" % (100 * (u / st["mean"] - 1))))
+    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
+    with open(a.out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
