@@ -71,8 +71,8 @@ def main():
     a = ap.parse_args()
     if a.perturbation > 0.5:
         ap.error("--perturbation: at most 0.5 of the particle spacing, got %g" % a.perturbation)
-    if a.eps_end >= 1 - PHI:
-        ap.error("--eps-end: below full density (1 - phi = %g), got %g" % (1 - PHI, a.eps_end))
+    if a.eps_end > 1 - PHI + 1e-12:
+        ap.error("--eps-end: at most full density (1 - phi = %g), got %g" % (1 - PHI, a.eps_end))
     try:
         seeds = [int(s) for s in a.seeds.split(",") if s.strip()]
     except ValueError:
