@@ -10,10 +10,10 @@ usage: bench/reference/scatter.py --example b [--cells-per-strut 4.5] [--pore-co
            [--work DIR] [--bin build/bin] [--out FILE]
 
 Runs what is missing in --work (a bundle there is not made again), two at a time with --jobs 2,
-each on one thread, then writes --out (default docs/reference/scatter-EXAMPLE-CELLS.md): per run
-the label, N_r and both readings of c_b/V with their uncertainties (docs/classifier.md); over the
-perturbed runs the mean, the sample standard deviation and the range of each reading, and where
-the unperturbed run lies against them.
+each on one thread, then writes --out (default docs/reference/scatter-EXAMPLE-CELLS-epsEPS.md):
+per run the label, N_r and both readings of c_b/V with their uncertainties (docs/classifier.md);
+over the perturbed runs the mean, the sample standard deviation and the range of each reading,
+and where the unperturbed run lies against them.
 """
 import argparse
 import math
@@ -81,7 +81,7 @@ def main():
         ap.error("--seeds: at least one seed, none twice, got %r" % a.seeds)
     if a.out is None:
         a.out = os.path.join(runs.ROOT, "docs", "reference",
-                             "scatter-%s-%g.md" % (a.example, a.cells_per_strut))
+                             "scatter-%s-%g-eps%g.md" % (a.example, a.cells_per_strut, a.eps_end))
 
     S, R = EXAMPLES[a.example]
     base = {"S": S, "R": R, "phi": PHI, "cells_per_strut": a.cells_per_strut,
@@ -89,7 +89,8 @@ def main():
     # A run's folder names everything that sets its scene, so --work can hold several studies.
     prefix = "%s-c%g-%s-e%g" % (a.example, a.cells_per_strut, a.pore_contact, a.eps_end)
     runs_wanted = [(0.0, 1)] + [(a.perturbation, s) for s in seeds]
-    scenes = {"%s-p%g-s%d" % (prefix, p, s): dict(base, perturbation=p, seed=s) for p, s in runs_wanted}
+    scenes = {"%s-p%g-s%d" % (prefix, p, s): dict(base, perturbation=p, seed=s)
+              for p, s in runs_wanted}
     dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
     classify_bin = os.path.join(a.bin, "compaction-classify")
 
