@@ -25,6 +25,7 @@ sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "bench", "lib"))
 from compaction_client import ApiError, Client  # noqa: E402
 import examples  # noqa: E402
+from cells import fmt  # noqa: E402
 
 
 def class_looks():
@@ -44,10 +45,6 @@ def buckling_onset(phi):
     t = L (1 - sqrt(1 - phi)) (the paper; web/js/physics.js draws the same line)."""
     a = (1 - math.sqrt(1 - phi)) / math.sqrt(1 - phi)
     return math.pi ** 2 * a ** 2 / 12
-
-
-def fmt(v, digits=3):
-    return "-" if v is None else "%.*g" % (digits, v)
 
 
 def load(client, sweep_id):

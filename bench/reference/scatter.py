@@ -23,12 +23,9 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
 from examples import EXAMPLES  # noqa: E402
+from cells import fmt  # noqa: E402
 
 PHI = 0.4  # the paper's examples
-
-
-def fmt(v, digits=3):
-    return "-" if v is None else "%.*g" % (digits, v)
 
 
 def stats(values):

@@ -27,6 +27,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
 from examples import EXAMPLES, PHI  # noqa: E402
+from cells import fmt  # noqa: E402
 
 BASE = {"phi": PHI, "eps_end": 0.2, "snapshot_eps": "", "movie_d_eps": 0,
         "pore_contact": "single_field"}
@@ -42,10 +43,6 @@ GEOMETRIES = {
     "3D": ("pseudo1d_3d", lambda cells: cells),
 }
 SAME_SPEED = 0.05  # |c_b/V 3D / 2D - 1| the summary counts as the same band speed
-
-
-def fmt(v, digits=3):
-    return "-" if v is None else "%.*g" % (digits, v)
 
 
 def scene(example, geometry, cells):

@@ -23,6 +23,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
 import examples  # noqa: E402
+from cells import fmt  # noqa: E402
 
 EXAMPLES = {k: dict(zip(("S", "R"), examples.EXAMPLES[k])) for k in "ab"}
 BASE = {"phi": 0.4, "eps_end": 0.2, "snapshot_eps": ""}
@@ -33,10 +34,6 @@ VARIANTS = {  # name: (changed material constants, what the check allows)
     "nu = 0.35": ({"nu": 0.35}, "5 %"),
 }
 TOLERANCE = {"round-off": 1e-9, "5 %": 0.05}
-
-
-def fmt(v, digits=4):
-    return "-" if v is None else "%.*g" % (digits, v)
 
 
 def maps_figure(a, resolutions, examples, dirs, name):
@@ -129,8 +126,8 @@ def main():
                 if not ok:
                     failures[cps].append("(%s) %s" % (ex, variant))
             lines.append("| %s | %s (%s) | %s +- %s | %s +- %s | %s | %s | %.0f |" % (
-                variant, m["label"], fmt(m["confidence"], 2), fmt(m["fit"]), fmt(m["fit_err"], 2),
-                fmt(m["transit"]), fmt(m["transit_err"], 2), m["n_r"], verdict, m["wall"]))
+                variant, m["label"], fmt(m["confidence"], 2), fmt(m["fit"], 4), fmt(m["fit_err"], 2),
+                fmt(m["transit"], 4), fmt(m["transit_err"], 2), m["n_r"], verdict, m["wall"]))
         lines.append("")
     figure = maps_figure(a, resolutions, examples, dirs, name)
     if figure:

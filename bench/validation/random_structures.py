@@ -25,13 +25,10 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
 import runs  # noqa: E402
 from examples import EXAMPLES, PHI  # noqa: E402
+from cells import fmt  # noqa: E402
 
 CELLS_PER_STRUT = 4.5  # the default preset's grid (server/presets.cpp), the study's default
 SAME_SPEED = 0.10      # |c_b/V / regular - 1| the summary counts as the same band speed
-
-
-def fmt(v, digits=3):
-    return "-" if v is None else "%.*g" % (digits, v)
 
 
 def scene(example, seed=None, cells_per_strut=CELLS_PER_STRUT):

@@ -23,12 +23,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import kept_rows  # noqa: E402
 import runs  # noqa: E402
 from examples import EXAMPLES  # noqa: E402
+from cells import fmt  # noqa: E402
 
 CELLS_PER_STRUT = 4.5  # the default preset (server/presets.cpp)
-
-
-def fmt(v, digits=3):
-    return "-" if v is None else "%.*g" % (digits, v)
 
 
 def main():
