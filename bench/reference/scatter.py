@@ -91,19 +91,20 @@ def main():
     dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
     classify_bin = os.path.join(a.bin, "compaction-classify")
 
-    rows, perturbed = [], []
+    rows, perturbed, unperturbed = [], [], None
     for (p, s), name in zip(runs_wanted, scenes):
         r = runs.reading(dirs[name], classify_bin)
         if r is None:
             sys.exit("scatter.py: %s did not finish (no summary.json in %s)" % (name, dirs[name]))
         grid = r["summary"]["grid"]
-        rows.append("| %s | %s | %s (%s) | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
-            "%g" % p, s, r["label"], fmt(r["confidence"], 2), r["n_r"],
+        rows.append("| %g | %s | %s (%s) | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
+            p, s, r["label"], fmt(r["confidence"], 2), r["n_r"],
             fmt(r["fit"]), fmt(r["fit_err"], 2), fmt(r["transit"]), fmt(r["transit_err"], 2),
             r["status"], r["wall"]))
         if p > 0:
             perturbed.append(r)
-    unperturbed = runs.reading(dirs[next(iter(scenes))], classify_bin)
+        else:
+            unperturbed = r
 
     lines = ["# Run-to-run scatter of (%s) at %g cells across a strut (%s)" % (
                  a.example, a.cells_per_strut, a.pore_contact), "",
