@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api_error.hpp"
+#include "counted_label.hpp"
 
 namespace compaction::server {
 
@@ -19,19 +20,16 @@ void split_jobs(const std::vector<JobRecord>& jobs, std::vector<adaptive::Labell
       pending.push_back(pt);
       continue;
     }
-    adaptive::Labelled l{pt, std::nullopt, 0.0, std::nullopt};
-    if (j.state == "succeeded" && j.human_label) {
-      // A person's label overrides the classifier's: it is certain, and the classifier's label
-      // becomes the runner-up where they differ.
-      l.label = j.human_label->label;
-      l.confidence = 1.0;
-      l.runner_up = j.result ? j.result->cls : std::nullopt;
-    } else if (j.state == "succeeded" && j.result) {
-      l.label = j.result->cls;  // none for an unstable or unclassified run
-      l.confidence = j.result->confidence.value_or(0.0);
-      l.runner_up = j.result->runner_up;
+    if (j.state != "succeeded") {
+      done.push_back({pt, std::nullopt, 0.0, std::nullopt});  // failed and cancelled: unknown
+      continue;
     }
-    done.push_back(std::move(l));  // failed and cancelled runs are unknown labels
+    // The classifier's label is none for an unstable or unclassified run.
+    const std::optional<std::string> human =
+        j.human_label ? std::optional<std::string>(j.human_label->label) : std::nullopt;
+    const auto& r = j.result;
+    done.push_back(counted_label(pt, human, r ? r->cls : std::nullopt,
+                                 r ? r->confidence : std::nullopt, r ? r->runner_up : std::nullopt));
   }
 }
 

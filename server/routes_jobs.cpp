@@ -5,6 +5,7 @@
 #include "checkpoint_routes.hpp"
 
 #include "compaction/params.hpp"
+#include "counted_label.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
 #include "phase_regions.hpp"
@@ -43,10 +44,13 @@ std::optional<regions::Regions> predicted_regions(const std::vector<PhaseMapPoin
   std::vector<adaptive::Labelled> labelled;
   for (const PhaseMapPoint& p : points) {
     all.push_back({p.S, p.R});
-    // A label counts from a stable run's result; an unstable run's label is not the pattern's.
-    if (p.state == "succeeded" && p.status == std::optional<std::string>("ok") && p.cls) {
-      labelled.push_back({{p.S, p.R}, p.cls, p.confidence.value_or(0.0), p.runner_up});
-    }
+    // The classifier's label counts from a stable run's result (an unstable run's label is not
+    // the pattern's); a person's label on a finished run counts as the planner reads it.
+    if (p.state != "succeeded") continue;
+    const bool stable = p.status == std::optional<std::string>("ok");
+    adaptive::Labelled l = counted_label({p.S, p.R}, p.human_label, stable ? p.cls : std::nullopt,
+                                         p.confidence, p.runner_up);
+    if (l.label) labelled.push_back(std::move(l));
   }
   const auto box = regions::box_of(all);
   if (!box) return std::nullopt;

@@ -1,7 +1,8 @@
 // The human-label and import endpoints in process on a loopback port: each bad input gets its
 // status and the field it is about and changes nothing in the database; a label set with the
-// submit token shows on the job, the phase map, both exports and the audit, and its clear too;
-// a file posted to /api/v1/imports merges, a bad one is refused naming its field.
+// submit token shows on the job, the phase map, its predicted regions, both exports and the
+// audit, and its clear too; a file posted to /api/v1/imports merges, a bad one is refused naming
+// its field.
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -201,6 +202,28 @@ TEST_F(LabelApi, ALabelShowsOnTheJobTheMapTheExportsAndTheAuditAndItsClearToo) {
   EXPECT_EQ(audit["changes"][1]["classifier_label"], "a");
   EXPECT_EQ(get("/api/v1/labels/audit?job=" + std::to_string(queued))["total"], 0);
   EXPECT_EQ(get(label_path(done))["changes"].size(), 2u);
+}
+
+TEST_F(LabelApi, APersonsLabelColoursThePredictedRegionsAsTheMapAndThePlannerReadIt) {
+  // One labelled run: every cell it reaches predicts its label, the classifier's (a) before a
+  // person labels it, the person's (b) after, and the classifier's again once cleared.
+  auto classes = [&] {
+    const json r = get("/api/v1/phase-map/regions?phi=0.4&grid=8");
+    EXPECT_EQ(r["runs"], 1);
+    std::string letters;
+    for (const json& row : r["classes"]) letters += row.get<std::string>();
+    return letters;
+  };
+  const std::string before = classes();
+  ASSERT_NE(before.find('a'), std::string::npos) << before;
+  EXPECT_EQ(before.find('b'), std::string::npos) << before;
+  ASSERT_EQ(send("PUT", label_path(done),
+                 json{{"label", "b"}, {"reason", "reflects"}, {"by", "ana"}}.dump(), submit)->status, 200);
+  const std::string labelled = classes();
+  EXPECT_EQ(labelled.find('a'), std::string::npos) << labelled;
+  EXPECT_NE(labelled.find('b'), std::string::npos) << labelled;
+  ASSERT_EQ(send("DELETE", label_path(done), R"({"by": "ana"})", submit)->status, 200);
+  EXPECT_EQ(classes(), before);
 }
 
 TEST_F(LabelApi, AnExportPostedToImportsMergesAndABadOneIsRefusedNamingItsField) {
