@@ -1,7 +1,10 @@
 // compaction-classify RESULT_DIR: labels a run's compaction pattern and prints the label and
-// its features as JSON (docs/classifier.md).
+// its features as JSON (docs/classifier.md). With --features it decides again from a run's stored
+// features (a summary.json, a classification, or the features alone), without the bundle.
 #include <cmath>
+#include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 #include "command_line.hpp"
@@ -18,21 +21,65 @@ const char* kAbout =
 const char* kNotes =
     "output: {\"class\": \"a\"..\"f\" | \"unclassified\", \"confidence\", \"runner_up\",\n"
     "         \"n_reflections\", \"band_speed_ratio\", \"features\": {...}}\n"
-    "exit status: 0 classified (also \"unclassified\"), 1 unreadable bundle, 2 bad usage\n";
+    "--features FILE decides from stored features: FILE (- for stdin) holds a summary.json,\n"
+    "  a classification (an export's result, GET /jobs/ID's result.summary.classification) or the\n"
+    "  features object; the fronts are not stored, so --fronts needs a bundle\n"
+    "exit status: 0 classified (also \"unclassified\"), 1 unreadable bundle or features, 2 bad usage\n";
+
+// The features object inside what --features reads: a summary, a classification or the features.
+const nlohmann::json& features_in(const nlohmann::json& doc) {
+  if (!doc.is_object()) throw std::invalid_argument("the features file must hold a JSON object");
+  if (const auto c = doc.find("classification"); c != doc.end()) {
+    if (c->is_null()) throw std::invalid_argument("classification is null: the run did not finish ok");
+    if (!c->is_object()) throw std::invalid_argument("classification: must be an object");
+    return features_in(*c);
+  }
+  if (const auto f = doc.find("features"); f != doc.end()) return *f;
+  return doc;
+}
+
+nlohmann::json read_json_file(const std::string& path) {
+  if (path == "-") return nlohmann::json::parse(std::cin);
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  return nlohmann::json::parse(in);
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace compaction;
-  std::string dir;
+  std::string dir, features_file;
   bool fronts = false, compact = false;
-  cli::CommandLine cl("compaction-classify", kAbout, "[--fronts] [--compact] RESULT_DIR");
+  cli::CommandLine cl("compaction-classify", kAbout,
+                      "[--fronts] [--compact] RESULT_DIR | --features FILE [--compact]");
   cl.positional("RESULT_DIR", dir,
-                "a bundle written by compaction-run (summary.json, frames.csv, spacetime.npy)");
+                "a bundle written by compaction-run (summary.json, frames.csv, spacetime.npy)",
+                /*required=*/false);
+  cl.text("--features", features_file, "FILE",
+          "decide from a run's stored features instead of a bundle (see below)", {},
+          /*non_empty=*/true);
   cl.flag("--fronts", fronts, "also print every propagating front (origin, start, end, speed, turns)");
   cl.flag("--compact", compact, "one line of JSON instead of indented");
   cl.notes(kNotes);
   if (const auto code = cl.parse(argc, argv)) return *code;
+  if (dir.empty() == features_file.empty() || (fronts && !features_file.empty())) {
+    std::cerr << "compaction-classify: give either RESULT_DIR or --features FILE"
+              << (fronts && !features_file.empty() ? " (--fronts needs RESULT_DIR)" : "")
+              << "; --help shows the usage\n";
+    return 2;
+  }
+  if (!features_file.empty()) {
+    try {
+      const classify::Features F = classify::features_from_json(features_in(read_json_file(features_file)));
+      const nlohmann::json out = classify::to_json(classify::decide(F));
+      std::cout << (compact ? out.dump() : out.dump(2)) << '\n';
+      return 0;
+    } catch (const std::exception& e) {
+      std::cerr << "compaction-classify: " << features_file << ": " << e.what() << '\n';
+      return 1;
+    }
+  }
   try {
     const Bundle b = read_bundle(dir);
     const classify::Classification c = classify::classify(b.params, b.result);

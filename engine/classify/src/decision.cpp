@@ -30,7 +30,15 @@ Classification decide(const Features& F, const DecisionSettings& s) {
   const double log_ratio = std::isfinite(F.stress_ratio) && F.stress_ratio > 0
                                ? std::log10(F.stress_ratio) : std::numeric_limits<double>::quiet_NaN();
   // Elementary evidence, each in [0, 1].
-  const double buckled = logistic(F.deflection_growth, s.buckling_growth, s.buckling_width, kAbsent);
+  // Struts buckle when their deflection grows while they are elastic and reaches a size that
+  // shapes how they yield; growth alone, from round-off to a hundredth of a thickness, is not
+  // buckling (no deflection, log10 of 0, is none).
+  const double log_deflection = F.deflection_before_yield > 0
+                                    ? std::log10(F.deflection_before_yield)
+                                    : -std::numeric_limits<double>::infinity();
+  const double buckled =
+      logistic(F.deflection_growth, s.buckling_growth, s.buckling_width, kAbsent) *
+      logistic(log_deflection, std::log10(s.buckling_size), s.buckling_size_width, kAbsent);
   const double inertial =
       logistic(log_ratio, std::log10(s.inertial_ratio), s.inertial_width, kAbsent);
   // Organised: fronts carry the activity, and the most active row moves by less than a band

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "line_fit.hpp"
@@ -292,6 +294,84 @@ nlohmann::json to_json(const Features& f) {
       {"deflection_growth", num(f.deflection_growth)},
       {"eps_reached", num(f.eps_reached)},
   };
+}
+
+namespace {
+
+// One key of a stored features object into `out`; an absent key leaves the default.
+void read_number(const nlohmann::json& j, const char* key, double& out) {
+  const auto it = j.find(key);
+  if (it == j.end()) return;
+  if (it->is_null()) {
+    out = std::numeric_limits<double>::quiet_NaN();
+  } else if (it->is_number()) {
+    out = it->get<double>();
+  } else {
+    throw std::invalid_argument(std::string("features.") + key + ": must be a number or null");
+  }
+}
+
+void read_int(const nlohmann::json& j, const char* key, int& out) {
+  const auto it = j.find(key);
+  if (it == j.end()) return;
+  if (!it->is_number_integer()) throw std::invalid_argument(std::string("features.") + key + ": must be an integer");
+  out = it->get<int>();
+}
+
+void read_bool(const nlohmann::json& j, const char* key, bool& out) {
+  const auto it = j.find(key);
+  if (it == j.end()) return;
+  if (!it->is_boolean()) throw std::invalid_argument(std::string("features.") + key + ": must be true or false");
+  out = it->get<bool>();
+}
+
+void read_text(const nlohmann::json& j, const char* key, std::string& out) {
+  const auto it = j.find(key);
+  if (it == j.end()) return;
+  if (!it->is_string()) throw std::invalid_argument(std::string("features.") + key + ": must be a string");
+  out = it->get<std::string>();
+}
+
+}  // namespace
+
+Features features_from_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::invalid_argument("features: must be an object");
+  Features f;
+  read_int(j, "n_fronts", f.n_fronts);
+  read_int(j, "n_fronts_onset", f.n_fronts_onset);
+  if (const auto it = j.find("onset_origins"); it != j.end()) {
+    if (!it->is_array()) throw std::invalid_argument("features.onset_origins: must be an array of strings");
+    for (const auto& o : *it) {
+      if (!o.is_string()) throw std::invalid_argument("features.onset_origins: must be an array of strings");
+      f.onset_origins.push_back(o.get<std::string>());
+    }
+  }
+  read_bool(j, "top_front", f.top_front);
+  read_bool(j, "bottom_front", f.bottom_front);
+  read_bool(j, "two_sided", f.two_sided);
+  read_text(j, "primary_origin", f.primary_origin);
+  read_int(j, "n_reflections", f.n_reflections);
+  read_number(j, "first_reflection_eps", f.first_reflection_eps);
+  read_int(j, "band_turns", f.band_turns);
+  read_number(j, "band_speed_ratio", f.band_speed_ratio);
+  read_number(j, "band_speed_error", f.band_speed_error);
+  read_number(j, "band_speed_transit", f.band_speed_transit);
+  read_number(j, "band_speed_transit_error", f.band_speed_transit_error);
+  read_number(j, "bottom_speed_ratio", f.bottom_speed_ratio);
+  read_number(j, "nonreflecting_speed", f.nonreflecting_speed);
+  read_number(j, "speed_excess", f.speed_excess);
+  read_number(j, "arrival_eps", f.arrival_eps);
+  read_number(j, "coherence", f.coherence);
+  read_number(j, "peak_jump", f.peak_jump);
+  read_number(j, "stress_ratio", f.stress_ratio);
+  read_number(j, "top_stress_undulation", f.top_stress_undulation);
+  read_number(j, "undulation_share", f.undulation_share);
+  read_number(j, "stress_drop", f.stress_drop);
+  read_number(j, "eps_first_yield", f.eps_first_yield);
+  read_number(j, "deflection_before_yield", f.deflection_before_yield);
+  read_number(j, "deflection_growth", f.deflection_growth);
+  read_number(j, "eps_reached", f.eps_reached);
+  return f;
 }
 
 }  // namespace compaction::classify

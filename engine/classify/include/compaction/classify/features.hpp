@@ -45,6 +45,7 @@ struct Features {
   double deflection_growth = 0.0;    // log10 of the growth of the largest strut deflection from
                                      // the first frame to the one before first yield (floored)
                                      //                                             [decades]
+  double deflection_before_yield = 0.0;  // max strut deflection just before first yield [thickness]
 
   // Shown only (no rule reads them).
   int n_fronts = 0;                  // propagating fronts (travel >= min_travel)
@@ -63,7 +64,6 @@ struct Features {
                                        // top stress                                 [-]
   double stress_drop = 0.0;          // 1 - (top stress after the peak) / (peak near first yield)
   double eps_first_yield = 0.0;      // first frame with yield_fraction of particles yielding (NaN)
-  double deflection_before_yield = 0.0;  // max strut deflection just before first yield [thickness]
   double eps_reached = 0.0;          // strain the run reached                       [-]
 };
 
@@ -76,5 +76,10 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
                           const BandPath& band, const FeatureSettings& s = {});
 
 nlohmann::json to_json(const Features& f);
+
+// The features as to_json wrote them (null: NaN; a key that is absent keeps its default), so a
+// stored run can be decided again without its bundle. Throws std::invalid_argument naming the
+// key whose value has the wrong type.
+Features features_from_json(const nlohmann::json& j);
 
 }  // namespace compaction::classify

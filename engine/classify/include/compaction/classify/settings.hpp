@@ -72,6 +72,9 @@ struct FeatureSettings {
 struct DecisionSettings {
   // Thresholds.
   double buckling_growth = 1.0;     // struts buckle: deflection grows > 10x while elastic [decades]
+  double buckling_size = 0.01;      // ... and reaches a size that matters: at first yield the
+                                    // bending stress of a strut deflected by w is 6 w / t of its
+                                    // axial stress, so w / t = 0.01 adds 6 %  [strut thickness]
   double inertial_ratio = 30.0;     // explosive: top stress > 30x bottom stress during propagation [-]
   double coherence = 0.5;           // organised: fronts carry more than half the activity [-]
   double erratic_jump = 2.0;        // erratic: the most active row jumps by more than this
@@ -84,6 +87,8 @@ struct DecisionSettings {
   double equal_stress = 0.1;        // quasi-static: |log10(top / bottom)| below this  [decades]
   // Widths of the soft steps, each in the unit of its threshold (5 % / 95 % at 3 widths).
   double buckling_width = 0.2;      // growth by 2.5x is elastic, by 40x buckling      [decades]
+  double buckling_size_width = 0.16;  // a third of buckling_size (bending 2 %) is no buckling,
+                                      // three times it (18 %) is               [decades of w / t]
   double inertial_width = 0.15;     // top / bottom 11 is not explosive, 85 is (class (a) has
                                     // 4-6, (e) ~3000)                                 [decades]
   double erratic_width = 0.3;       // jumps of 1.1 cells are a band moving, 2.9 are not [cells]

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# compaction-classify end to end: help, exit 2 for bad usage, a real bundle classified, and its
+# stored features (summary.json, as the server stores and exports them) decided again by
+# --features to the same JSON, key for key; unreadable features exit 1 naming the problem.
+set -u
+run="$1"; classify="$2"
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail=0; pass=0
+check() {  # check NAME CONDITION...
+  local name="$1"; shift
+  if "$@"; then pass=$((pass + 1)); else echo "FAILED: $name"; fail=$((fail + 1)); fi
+}
+
+"$classify" --help > "$out/help" 2>&1; rc=$?
+check "help exits 0" test $rc -eq 0
+check "help documents --features" grep -q -- "--features FILE" "$out/help"
+
+"$classify" 2> "$out/err"; rc=$?
+check "no input exits 2" test $rc -eq 2
+check "no input says what to give" grep -q "give either RESULT_DIR or --features FILE" "$out/err"
+
+# An explosive run (class (e)), short and coarse: a fraction of a second.
+"$run" --S 0.1 --R 1e-5 --phi 0.4 --cells-per-unit 6 --eps-end 0.1 --out "$out/b" > /dev/null 2>&1; rc=$?
+check "run exits 0" test $rc -eq 0
+"$classify" --compact "$out/b" > "$out/bundle.json" 2> "$out/err"; rc=$?
+check "bundle classified" test $rc -eq 0
+check "bundle is (e)" grep -q '"class":"e"' "$out/bundle.json"
+
+"$classify" "$out/b" --features "$out/b/summary.json" 2> "$out/err"; rc=$?
+check "both inputs exit 2" test $rc -eq 2
+"$classify" --fronts --features "$out/b/summary.json" 2> "$out/err"; rc=$?
+check "--fronts with --features exits 2" test $rc -eq 2
+check "--fronts needs a bundle" grep -q -- "--fronts needs RESULT_DIR" "$out/err"
+
+"$classify" --compact --features "$out/b/summary.json" > "$out/again.json" 2> "$out/err"; rc=$?
+check "features decided" test $rc -eq 0
+same=$(python3 - "$out/b/summary.json" "$out/again.json" <<'PY'
+import json, sys
+stored = json.load(open(sys.argv[1]))["classification"]
+again = json.load(open(sys.argv[2]))
+print("same" if stored == again else "differ: " + ", ".join(k for k in stored if stored[k] != again.get(k)))
+PY
+)
+check "stored features decide to the stored classification ($same)" test "$same" = same
+python3 -c 'import json,sys; print(json.dumps(json.load(open(sys.argv[1]))["classification"]))' \
+  "$out/b/summary.json" | "$classify" --compact --features - > "$out/stdin.json"; rc=$?
+check "features from stdin" test $rc -eq 0
+check "stdin gives the same" cmp -s "$out/again.json" "$out/stdin.json"
+
+"$classify" --features "$out/none.json" 2> "$out/err"; rc=$?
+check "missing file exits 1" test $rc -eq 1
+check "missing file named" grep -q "cannot open $out/none.json" "$out/err"
+echo '{"classification": {"features": {"deflection_growth": "high"}}}' > "$out/bad.json"
+"$classify" --features "$out/bad.json" 2> "$out/err"; rc=$?
+check "wrong type exits 1" test $rc -eq 1
+check "wrong type names the key" grep -q "features.deflection_growth: must be a number or null" "$out/err"
+echo '{"classification": null}' > "$out/null.json"
+"$classify" --features "$out/null.json" 2> "$out/err"; rc=$?
+check "unclassified run exits 1" test $rc -eq 1
+check "unclassified run explained" grep -q "the run did not finish ok" "$out/err"
+echo '{"features": ' > "$out/cut.json"
+"$classify" --features "$out/cut.json" 2> "$out/err"; rc=$?
+check "malformed JSON exits 1" test $rc -eq 1
+
+echo "compaction-classify CLI: $pass passed, $fail failed"
+test $fail -eq 0
