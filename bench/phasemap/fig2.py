@@ -88,6 +88,13 @@ def predicted(regions, S, R):
     return (None if c == "." else c), regions["uncertainty"][j][i]
 
 
+def label_text(j):
+    """A run's label for the tables: a person's marked as such, with the classifier's."""
+    if j["person"]:
+        return "%s (person; classifier %s)" % (j["label"], j["classifier"] or "-")
+    return j["label"] or "-"
+
+
 def draw(path, phi, jobs, regions, looks, box):
     import matplotlib
     matplotlib.use("Agg")
@@ -123,6 +130,11 @@ def draw(path, phi, jobs, regions, looks, box):
                 if j["n_reflections"] is not None:
                     ax.annotate(str(j["n_reflections"]), (math.log10(j["S"]), math.log10(j["R"])),
                                 xytext=(4, 3), textcoords="offset points", fontsize=6, zorder=4)
+    people = [j for j in jobs if j["person"]]
+    if people:  # the dashboard's mark of a person's label (web/js/humanlabels.js)
+        ax.scatter([math.log10(j["S"]) for j in people], [math.log10(j["R"]) for j in people],
+                   marker="o", s=9, c="black", edgecolors="white", linewidths=0.6, zorder=4,
+                   label="dot: label set by a person: %d" % len(people))
     other = [j for j in jobs if j["label"] is None]
     if other:
         ax.scatter([math.log10(j["S"]) for j in other], [math.log10(j["R"]) for j in other],
@@ -162,8 +174,13 @@ def main():
     client.export_archive(a.sweep, os.path.join(a.out, "sweep-%d.export.json" % a.sweep),
                           artifacts="none")
 
+    # The label that counts is a person's where there is one (docs/service.md, "Human labels"),
+    # certain, with the classifier's beside it, as the map, its regions and the planner read it.
     jobs = [{"id": r["job_id"], "S": r["S"], "R": r["R"], "state": r["state"],
-             "label": r["class"], "confidence": r["confidence"], "runner_up": r["runner_up"],
+             "label": (r.get("human_label") or {}).get("label") or r["class"],
+             "classifier": r["class"], "person": bool(r.get("human_label")),
+             "confidence": 1.0 if r.get("human_label") else r["confidence"],
+             "runner_up": r["class"] if r.get("human_label") else r["runner_up"],
              "n_reflections": r["n_reflections"], "c_b": r["band_speed_ratio"],
              "wall": r["wall_seconds"], "status": r["status"], "started": r.get("started_at"),
              "finished": r.get("finished_at"), "revision": r["source_revision"]}
@@ -197,6 +214,8 @@ def main():
               % ("-" if elapsed is None else "%.0f s = %.2f h" % (elapsed, elapsed / 3600)),
               "| labels | %s; no label %d |" % (", ".join("(%s) %d" % (k, counts[k]) for k in "abcdef"),
                                                len(done) - sum(counts.values())),
+              "| labels set by a person (the classifier's beside them below) | %d |"
+              % sum(1 for j in done if j["person"]),
               "| engine revisions | %s |" % ", ".join(sorted({j["revision"] or "-" for j in done})),
               ""]
     lines += ["The paper's six examples: the run of the map within %g decade (of log S and log R "
@@ -214,7 +233,7 @@ def main():
             continue
         j, d = hit
         lines.append("| (%s) | %g | %g | job %d (%s, %s) | **%s** | %s | %s | %s | %s | %s"
-                     % (k, S, R, j["id"], fmt(j["S"]), fmt(j["R"]), j["label"],
+                     % (k, S, R, j["id"], fmt(j["S"]), fmt(j["R"]), label_text(j),
                         fmt(j["confidence"], 2), j["runner_up"] or "-",
                         "-" if j["n_reflections"] is None else j["n_reflections"], fmt(j["c_b"]),
                         tail))
@@ -225,7 +244,7 @@ def main():
         lines.append("| %d | %s | %s | %s | %s | %s | %s | %s | %s | %s |"
                      % (j["id"], fmt(j["S"]), fmt(j["R"]), j["state"] + (
                          "" if j["status"] in (None, "ok") else " (%s)" % j["status"]),
-                        j["label"] or "-", fmt(j["confidence"], 2), j["runner_up"] or "-",
+                        label_text(j), fmt(j["confidence"], 2), j["runner_up"] or "-",
                         "-" if j["n_reflections"] is None else j["n_reflections"], fmt(j["c_b"]),
                         fmt(j["wall"], 4)))
     with open(os.path.join(a.out, "fig2.md"), "w") as f:
