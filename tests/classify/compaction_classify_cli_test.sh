@@ -4,13 +4,7 @@
 # --features to the same JSON, key for key; unreadable features exit 1 naming the problem.
 set -u
 run="$1"; classify="$2"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail=0; pass=0
-check() {  # check NAME CONDITION...
-  local name="$1"; shift
-  if "$@"; then pass=$((pass + 1)); else echo "FAILED: $name"; fail=$((fail + 1)); fi
-}
+source "$(dirname "$0")/../lib/cli_checks.sh"
 
 "$classify" --help > "$out/help" 2>&1; rc=$?
 check "help exits 0" test $rc -eq 0
@@ -63,5 +57,4 @@ echo '{"features": ' > "$out/cut.json"
 "$classify" --features "$out/cut.json" 2> "$out/err"; rc=$?
 check "malformed JSON exits 1" test $rc -eq 1
 
-echo "compaction-classify CLI: $pass passed, $fail failed"
-test $fail -eq 0
+checks_done "compaction-classify CLI"

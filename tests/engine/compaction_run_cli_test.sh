@@ -3,13 +3,7 @@
 # writes a complete bundle, JSON progress lines, and a scene file overridden by flags.
 set -u
 run="$1"
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-fail=0; pass=0
-check() {  # check NAME CONDITION...
-  local name="$1"; shift
-  if "$@"; then pass=$((pass + 1)); else echo "FAILED: $name"; fail=$((fail + 1)); fi
-}
+source "$(dirname "$0")/../lib/cli_checks.sh"
 
 "$run" --help > "$out/help" 2>&1; rc=$?
 check "help exits 0" test $rc -eq 0
@@ -86,5 +80,4 @@ check "resumed line" grep -q '"event":"resumed"' "$out/progress"
 check "resumed frames equal the uninterrupted run's" cmp -s "$out/b/frames.csv" "$out/f/frames.csv"
 check "resumed map equals the uninterrupted run's" cmp -s "$out/b/spacetime.npy" "$out/f/spacetime.npy"
 
-echo "$pass passed, $fail failed"
-test $fail -eq 0
+checks_done
