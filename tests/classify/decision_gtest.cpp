@@ -113,6 +113,10 @@ TEST(Decision, StoredFeaturesOfTheWrongTypeAreRefusedByName) {
   nlohmann::json k = to_json(erratic_run());
   k["n_reflections"] = 1.5;
   EXPECT_THROW(features_from_json(k), std::invalid_argument);
+  k["n_reflections"] = -1;
+  EXPECT_THROW(features_from_json(k), std::invalid_argument);
+  k["n_reflections"] = 1LL << 40;
+  EXPECT_THROW(features_from_json(k), std::invalid_argument);
 }
 
 }  // namespace

@@ -315,7 +315,11 @@ void read_int(const nlohmann::json& j, const char* key, int& out) {
   const auto it = j.find(key);
   if (it == j.end()) return;
   if (!it->is_number_integer()) throw std::invalid_argument(std::string("features.") + key + ": must be an integer");
-  out = it->get<int>();
+  const auto v = it->get<long long>();
+  if (v < 0 || v > std::numeric_limits<int>::max()) {
+    throw std::invalid_argument(std::string("features.") + key + ": must be a count, got " + std::to_string(v));
+  }
+  out = static_cast<int>(v);
 }
 
 void read_bool(const nlohmann::json& j, const char* key, bool& out) {
