@@ -88,6 +88,21 @@ def predicted(regions, S, R):
     return (None if c == "." else c), regions["uncertainty"][j][i]
 
 
+def job_of(r):
+    """One run of the sweep's results as the figure and tables read it. The label that counts is
+    a person's where there is one (docs/service.md, "Human labels"), certain, with the
+    classifier's beside it, as the map, its regions and the planner read it."""
+    human = r.get("human_label")
+    return {"id": r["job_id"], "S": r["S"], "R": r["R"], "state": r["state"],
+            "label": human["label"] if human else r["class"],
+            "classifier": r["class"], "person": human is not None,
+            "confidence": 1.0 if human else r["confidence"],
+            "runner_up": r["class"] if human else r["runner_up"],
+            "n_reflections": r["n_reflections"], "c_b": r["band_speed_ratio"],
+            "wall": r["wall_seconds"], "status": r["status"], "started": r.get("started_at"),
+            "finished": r.get("finished_at"), "revision": r["source_revision"]}
+
+
 def label_text(j):
     """A run's label for the tables: a person's marked as such, with the classifier's."""
     if j["person"]:
@@ -174,17 +189,7 @@ def main():
     client.export_archive(a.sweep, os.path.join(a.out, "sweep-%d.export.json" % a.sweep),
                           artifacts="none")
 
-    # The label that counts is a person's where there is one (docs/service.md, "Human labels"),
-    # certain, with the classifier's beside it, as the map, its regions and the planner read it.
-    jobs = [{"id": r["job_id"], "S": r["S"], "R": r["R"], "state": r["state"],
-             "label": (r.get("human_label") or {}).get("label") or r["class"],
-             "classifier": r["class"], "person": bool(r.get("human_label")),
-             "confidence": 1.0 if r.get("human_label") else r["confidence"],
-             "runner_up": r["class"] if r.get("human_label") else r["runner_up"],
-             "n_reflections": r["n_reflections"], "c_b": r["band_speed_ratio"],
-             "wall": r["wall_seconds"], "status": r["status"], "started": r.get("started_at"),
-             "finished": r.get("finished_at"), "revision": r["source_revision"]}
-            for r in rows]
+    jobs = [job_of(r) for r in rows]
     done = [j for j in jobs if j["state"] == "succeeded"]
     req = sweep["request"]["adaptive"]
     box = ((req["S"]["min"], req["S"]["max"]), (req["R"]["min"], req["R"]["max"]))

@@ -45,16 +45,16 @@ check "stdin gives the same" cmp -s "$out/again.json" "$out/stdin.json"
 "$classify" --features "$out/none.json" 2> "$out/err"; rc=$?
 check "missing file exits 1" test $rc -eq 1
 check "missing file named" grep -q "cannot open $out/none.json" "$out/err"
-echo '{"classification": {"features": {"deflection_growth": "high"}}}' > "$out/bad.json"
-"$classify" --features "$out/bad.json" 2> "$out/err"; rc=$?
-check "wrong type exits 1" test $rc -eq 1
-check "wrong type names the key" grep -q "features.deflection_growth: must be a number or null" "$out/err"
-echo '{"classification": null}' > "$out/null.json"
-"$classify" --features "$out/null.json" 2> "$out/err"; rc=$?
-check "unclassified run exits 1" test $rc -eq 1
-check "unclassified run explained" grep -q "the run did not finish ok" "$out/err"
-echo '{"features": ' > "$out/cut.json"
-"$classify" --features "$out/cut.json" 2> "$out/err"; rc=$?
-check "malformed JSON exits 1" test $rc -eq 1
+# refused NAME CONTENT MESSAGE: --features on a file holding CONTENT exits 1 and says MESSAGE.
+refused() {
+  printf '%s\n' "$2" > "$out/refused.json"
+  "$classify" --features "$out/refused.json" 2> "$out/err"; local rc=$?
+  check "$1 exits 1" test $rc -eq 1
+  check "$1 explained" grep -q -- "$3" "$out/err"
+}
+refused "wrong type" '{"classification": {"features": {"deflection_growth": "high"}}}' \
+  "features.deflection_growth: must be a number or null"
+refused "unclassified run" '{"classification": null}' "the run did not finish ok"
+refused "malformed JSON" '{"features": ' "parse error"
 
 checks_done "compaction-classify CLI"
