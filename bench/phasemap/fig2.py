@@ -25,6 +25,7 @@ sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "bench", "lib"))
 from compaction_client import ApiError, Client  # noqa: E402
 import examples  # noqa: E402
+from compare import comparison  # noqa: E402
 from cells import fmt  # noqa: E402
 
 
@@ -252,6 +253,7 @@ def main():
                         label_text(j), fmt(j["confidence"], 2), j["runner_up"] or "-",
                         "-" if j["n_reflections"] is None else j["n_reflections"], fmt(j["c_b"]),
                         fmt(j["wall"], 4)))
+    lines += [""] + comparison(done, phi, buckling_onset(phi))
     with open(os.path.join(a.out, "fig2.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("fig2.py: %d runs (%d done), plan %s; wrote %s" % (len(jobs), len(done), plan["state"], a.out))
