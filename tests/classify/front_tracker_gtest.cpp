@@ -174,6 +174,33 @@ TEST(FrontTracker, LateFrontsFromBothPlatesDoNotMakeABandTwoSided) {
   EXPECT_NE(decide(F).label, "c");
 }
 
+// Class (c)'s bands cross inside the sample: a bottom front counts when it starts before the
+// top band has passed the middle (h0 / 2, where the material below the band is at rest). The same
+// non-reflecting top band (c_b / V = 1.7, at the middle at eps = 0.285) with a bottom front
+// rising at 2 V from eps = 0.2 is (c); from eps = 0.4, as the lowest rows of the map's runs at
+// S = 3.2e-2 to 5.6e-2, R = 1.8e-3 to 8.9e-3 yield when the band nears them, it is not, and the
+// band stays (a).
+TEST(FrontTracker, ABottomFrontCountsOnlyIfItStartsBeforeTheTopBandPassesTheMiddle) {
+  auto features_with_bottom_front_from = [](double start) {
+    const double c_top = 1.7, c_bottom = 2.0;
+    const auto run = make_run(0.55, [&](double eps, double y) {
+      const double top = 0.985 - c_top * eps;
+      const double bottom = 0.015 + c_bottom * (eps - start);
+      return bump(y, top) + (eps >= start && bottom < top ? bump(y, bottom) : 0.0);
+    });
+    return features_of(run, track(run));
+  };
+  const Features early = features_with_bottom_front_from(0.2);
+  EXPECT_TRUE(early.bottom_front);
+  EXPECT_TRUE(early.two_sided);
+  EXPECT_EQ(decide(early).label, "c");
+
+  const Features late = features_with_bottom_front_from(0.4);
+  EXPECT_TRUE(late.bottom_front);  // the front is found; it starts too late to count
+  EXPECT_FALSE(late.two_sided);
+  EXPECT_EQ(decide(late).label, "a");
+}
+
 // Mass conservation bounds a band's speed from below: c_b / V >= 1 / (1 - phi) = 1.67 here.
 // The same straight front from the top is a non-reflecting band (a) at that speed and is not a
 // band at all at 1.0 (activity drifting down, as erratic runs can show): (d). Stresses equal.

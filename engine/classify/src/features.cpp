@@ -42,6 +42,18 @@ double first_leg_end(const Front& fr) {
   return fr.turns.empty() ? fr.end_eps() : fr.turns.front().eps;
 }
 
+// Strain at which a front from the top passes the middle of the sample on its first leg, else
+// the end of that leg. The material below a band from the top is at rest, so its middle is at
+// half the initial height, h0 / 2.
+double passes_middle(const Front& fr) {
+  const std::size_t leg =
+      fr.turns.empty() ? fr.path.size() : static_cast<std::size_t>(fr.turns.front().index) + 1;
+  for (std::size_t i = 0; i < leg && i < fr.path.size(); ++i) {
+    if (fr.path[i].centroid < 0.5) return fr.path[i].eps;
+  }
+  return first_leg_end(fr);
+}
+
 // Amplitude of y at period P (least squares on cos/sin after removing a linear trend).
 struct Harmonic { double amplitude = 0.0, share = 0.0; };
 Harmonic harmonic(const std::vector<double>& x, const std::vector<double>& y, double period) {
@@ -91,14 +103,16 @@ void front_counts(const FrontTracks& t, const FeatureSettings& s, Features& F) {
     }
   }
   F.bottom_speed_ratio = bottom ? bottom->speed : kNaN;
-  // Two-sided (class (c)): bands emerge from both ends. The one from the top starts at the
-  // onset; one from the bottom that starts after that band's first leg is over is a late event
-  // (near densification, or a reflected band), not a second band emerging.
+  // Two-sided (class (c)): bands emerge from both ends and cross inside the sample. The one
+  // from the top starts at the onset; one from the bottom must start before that band has passed
+  // the middle. A bottom front that starts later is the lowest rows yielding as the top band
+  // nears the bottom plate (it meets the band in the lower half), near densification, or a
+  // reflected band: not a second band emerging.
   for (const auto& a : t.fronts) {
     if (!a.propagating || a.origin != Origin::top || !at_onset(a)) continue;
     for (const auto& b : t.fronts) {
       if (!b.propagating || b.origin != Origin::bottom) continue;
-      if (b.start_eps() < first_leg_end(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;
+      if (b.start_eps() < passes_middle(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;
     }
   }
 }
