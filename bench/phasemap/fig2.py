@@ -170,6 +170,12 @@ def draw(path, phi, jobs, regions, looks, box):
     ax.set_ylabel("log10 R = log10 q_y / E")
     ax.set_title("phi = %g: %d runs; stars: the paper's six examples; numbers: N_r of (b)"
                  % (phi, len(jobs)), fontsize=9)
+    save(fig, ax, path)
+
+
+def save(fig, ax, path):
+    """The legend beside the axes, the figure written to `path` and closed."""
+    import matplotlib.pyplot as plt
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=110)

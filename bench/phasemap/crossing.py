@@ -1,0 +1,140 @@
+#!/usr/bin/python3
+"""Where the two bands of each two-sided run start and meet: what the classifier's class (c)
+rests on, read from the runs' bundles.
+
+The classifier calls a run two-sided (`two_sided`, the one feature that makes (c)) when a front
+from the bottom plate starts before the first leg of the top band is over (engine/classify,
+features.cpp). The paper's (c) is "crossing bands emerging from the two ends"; its example has
+the bottom band start at eps ~ 0.05 and the two meet at mid-height. This lists, for every run
+of the given sweeps whose stored features say two-sided and whose bundle is on this machine,
+the bottom front that made it so: when it starts, how far it travels, and when the top band
+passes mid-height, so a reader sees which (c) are bands emerging from both ends and which are a
+few bottom rows yielding as the top band arrives.
+
+usage: bench/phasemap/crossing.py --server URL --sweep ID [--sweep ID ...] --artifacts DIR
+                                  [--classify build/bin/compaction-classify] [--out FILE]
+
+DIR is the server's artifact directory (`--db X` keeps them in X.artifacts/job-ID-*/).
+"""
+import argparse
+import glob
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from fig2 import ROOT, job_of  # noqa: E402
+from compaction_client import Client  # noqa: E402
+from cells import fmt  # noqa: E402
+
+
+def classify_fronts(classify, bundle):
+    """compaction-classify's verdict on the bundle with its fronts."""
+    out = subprocess.run([classify, "--fronts", "--compact", bundle], check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def revision(classify):
+    out = subprocess.run([classify, "--version"], check=True, capture_output=True, text=True)
+    return out.stdout.strip().split(" ", 1)[-1]
+
+
+def first_leg_end(f):
+    """As features.cpp: the first turn's strain, else the front's end."""
+    return f["turns"][0]["eps"] if f["turns"] else f["end_eps"]
+
+
+def eps_at_height(f, h):
+    """The strain at which a front passes height h (fraction of h0), on the straight line through
+    its start and end, or None if its first leg does not reach h (the classifier reads the
+    front's path instead; this is for the table)."""
+    h0, h1, e0, e1 = f["start_height"], f["end_height"], f["start_eps"], first_leg_end(f)
+    if h1 == h0 or not (min(h0, h1) <= h <= max(h0, h1)):
+        return None
+    return e0 + (h - h0) / (h1 - h0) * (e1 - e0)
+
+
+def crossing(fr):
+    """The top band from the onset and the bottom front that make the run two-sided (the
+    features' condition), the bottom front starting first; None if there is none."""
+    tops = [f for f in fr if f["origin"] == "top"]
+    if not tops:
+        return None
+    onset = min(f["start_eps"] for f in fr)
+    pairs = [(a, b) for a in tops if a["start_eps"] <= onset + 0.05
+             for b in fr if b["origin"] == "bottom"
+             and b["start_eps"] < first_leg_end(a) and a["start_eps"] < first_leg_end(b)]
+    return min(pairs, key=lambda p: p[1]["start_eps"]) if pairs else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--server", required=True, help="the server's URL")
+    ap.add_argument("--sweep", type=int, action="append", required=True, help="a sweep's id")
+    ap.add_argument("--artifacts", required=True, help="the server's artifact directory")
+    ap.add_argument("--classify", default=os.path.join(ROOT, "build", "bin", "compaction-classify"))
+    ap.add_argument("--out", help="write the table here (markdown) instead of stdout")
+    a = ap.parse_args()
+    if not os.path.isdir(a.artifacts):
+        sys.exit("crossing.py: no artifact directory %s" % a.artifacts)
+    client = Client(a.server)
+    seen, rows, missing = set(), [], []
+    for sweep in a.sweep:
+        for r in client.results(sweep, frame=False):
+            if r["job_id"] in seen or r["state"] != "succeeded":
+                continue
+            seen.add(r["job_id"])
+            if not (r.get("features") or {}).get("two_sided"):
+                continue
+            j = job_of(r)
+            bundle = glob.glob(os.path.join(a.artifacts, "job-%d-*" % j["id"]))
+            if not bundle:
+                missing.append(j)
+                continue
+            today = classify_fronts(a.classify, bundle[0])
+            rows.append((j, crossing(today["fronts"]), today))
+    lines = ["<!-- written by bench/phasemap/crossing.py --sweep %s; do not edit -->"
+             % " --sweep ".join(map(str, a.sweep)), "",
+             "| job | S | R | stored label | bottom front starts at eps | travels from / to "
+             "height | top band at mid-height at eps | two-sided today | today's label |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    still = 0
+    for j, pair, today in sorted(rows, key=lambda x: (x[0]["S"], x[0]["R"])):
+        stored = "%s %s" % (j["classifier"], fmt(j["confidence"] if not j["person"] else None, 2))
+        verdict = "%s %s" % (today["class"], fmt(today["confidence"], 2))
+        still += bool(today["features"]["two_sided"])
+        if pair is None:
+            lines.append("| %d | %s | %s | %s | - | - | - | %s | %s |"
+                         % (j["id"], fmt(j["S"]), fmt(j["R"]), stored,
+                            "yes" if today["features"]["two_sided"] else "no", verdict))
+            continue
+        top, bottom = pair
+        mid = eps_at_height(top, 0.5)
+        lines.append("| %d | %s | %s | %s | %.3f | %.2f / %.2f | %s | %s | %s |"
+                     % (j["id"], fmt(j["S"]), fmt(j["R"]), stored, bottom["start_eps"],
+                        bottom["start_height"], bottom["end_height"],
+                        "-" if mid is None else "%.3f" % mid,
+                        "yes" if today["features"]["two_sided"] else "no", verdict))
+    starts = sorted(p[1]["start_eps"] for _, p, _ in rows if p)
+    if len(starts) >= 2:  # the widest gap between the bottom fronts' starts splits them in two
+        k = max(range(len(starts) - 1), key=lambda i: starts[i + 1] - starts[i])
+        lines += ["", "The bottom fronts start at eps %.3f to %.3f (%d runs) or %.3f to %.3f (%d); "
+                  "none between." % (starts[0], starts[k], k + 1, starts[k + 1], starts[-1],
+                                      len(starts) - k - 1)]
+    lines += ["", "Runs stored as two-sided with a bundle here: %d, still two-sided by today's "
+              "classifier (%s): %d. Runs stored as two-sided without a bundle here: %s."
+              % (len(rows), revision(a.classify), still,
+                 ", ".join("job %d" % j["id"] for j in missing) or "none")]
+    text = "\n".join(lines) + "\n"
+    if a.out:
+        with open(a.out, "w") as f:
+            f.write(text)
+    else:
+        sys.stdout.write(text)
+
+
+if __name__ == "__main__":
+    main()
