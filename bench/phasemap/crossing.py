@@ -11,10 +11,11 @@ the bottom front that made it so: when it starts, how far it travels, and when t
 passes mid-height, so a reader sees which (c) are bands emerging from both ends and which are a
 few bottom rows yielding as the top band arrives.
 
-usage: bench/phasemap/crossing.py --server URL --sweep ID [--sweep ID ...] --artifacts DIR
+usage: bench/phasemap/crossing.py --server URL --sweep ID [--sweep ID ...] --artifacts DIR [...]
                                   [--classify build/bin/compaction-classify] [--out FILE]
 
-DIR is the server's artifact directory (`--db X` keeps them in X.artifacts/job-ID-*/).
+DIR holds bundles named job-ID-*: the server's artifact directory (`--db X` keeps them in
+X.artifacts/), or runs made again with compaction-run from a job's scene (GET /jobs/ID).
 """
 import argparse
 import glob
@@ -74,12 +75,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--server", required=True, help="the server's URL")
     ap.add_argument("--sweep", type=int, action="append", required=True, help="a sweep's id")
-    ap.add_argument("--artifacts", required=True, help="the server's artifact directory")
+    ap.add_argument("--artifacts", action="append", required=True,
+                    help="a directory of bundles job-ID-* (repeatable)")
     ap.add_argument("--classify", default=os.path.join(ROOT, "build", "bin", "compaction-classify"))
     ap.add_argument("--out", help="write the table here (markdown) instead of stdout")
     a = ap.parse_args()
-    if not os.path.isdir(a.artifacts):
-        sys.exit("crossing.py: no artifact directory %s" % a.artifacts)
+    for d in a.artifacts:
+        if not os.path.isdir(d):
+            sys.exit("crossing.py: no directory %s" % d)
     client = Client(a.server)
     seen, rows, missing = set(), [], []
     for sweep in a.sweep:
@@ -90,20 +93,21 @@ def main():
             if not (r.get("features") or {}).get("two_sided"):
                 continue
             j = job_of(r)
-            bundle = glob.glob(os.path.join(a.artifacts, "job-%d-*" % j["id"]))
+            bundle = [b for d in a.artifacts
+                      for b in sorted(glob.glob(os.path.join(d, "job-%d-*" % j["id"])))]
             if not bundle:
                 missing.append(j)
                 continue
             today = classify_fronts(a.classify, bundle[0])
-            rows.append((j, crossing(today["fronts"]), today))
+            rows.append((j, crossing(today["fronts"]), today, r["confidence"]))
     lines = ["<!-- written by bench/phasemap/crossing.py --sweep %s; do not edit -->"
              % " --sweep ".join(map(str, a.sweep)), "",
              "| job | S | R | stored label | bottom front starts at eps | travels from / to "
              "height | top band at mid-height at eps | two-sided today | today's label |",
              "|---|---|---|---|---|---|---|---|---|"]
     still = 0
-    for j, pair, today in sorted(rows, key=lambda x: (x[0]["S"], x[0]["R"])):
-        stored = "%s %s" % (j["classifier"], fmt(j["confidence"] if not j["person"] else None, 2))
+    for j, pair, today, confidence in sorted(rows, key=lambda x: (x[0]["S"], x[0]["R"])):
+        stored = "%s %s" % (j["classifier"] or "unclassified", fmt(confidence, 2))
         verdict = "%s %s" % (today["class"], fmt(today["confidence"], 2))
         still += bool(today["features"]["two_sided"])
         if pair is None:
@@ -118,7 +122,7 @@ def main():
                         bottom["start_height"], bottom["end_height"],
                         "-" if mid is None else "%.3f" % mid,
                         "yes" if today["features"]["two_sided"] else "no", verdict))
-    starts = sorted(p[1]["start_eps"] for _, p, _ in rows if p)
+    starts = sorted(p[1]["start_eps"] for _, p, _, _ in rows if p)
     if len(starts) >= 2:  # the widest gap between the bottom fronts' starts splits them in two
         k = max(range(len(starts) - 1), key=lambda i: starts[i + 1] - starts[i])
         lines += ["", "The bottom fronts start at eps %.3f to %.3f (%d runs) or %.3f to %.3f (%d); "

@@ -146,15 +146,7 @@ def draw(path, phi, jobs, regions, looks, box):
                 if j["n_reflections"] is not None:
                     ax.annotate(str(j["n_reflections"]), (math.log10(j["S"]), math.log10(j["R"])),
                                 xytext=(4, 3), textcoords="offset points", fontsize=6, zorder=4)
-    people = [j for j in jobs if j["person"]]
-    if people:  # the dashboard's mark of a person's label (web/js/humanlabels.js)
-        ax.scatter([math.log10(j["S"]) for j in people], [math.log10(j["R"]) for j in people],
-                   marker="o", s=9, c="black", edgecolors="white", linewidths=0.6, zorder=4,
-                   label="dot: label set by a person: %d" % len(people))
-    other = [j for j in jobs if j["label"] is None]
-    if other:
-        ax.scatter([math.log10(j["S"]) for j in other], [math.log10(j["R"]) for j in other],
-                   marker="x", s=25, c="#555555", label="no label: %d" % len(other), zorder=3)
+    mark_people_and_unlabelled(ax, jobs)
     for k, (S, R) in examples.EXAMPLES.items():
         ax.scatter([math.log10(S)], [math.log10(R)], marker="*", s=260, facecolors="none",
                    edgecolors="black", linewidths=1.0, zorder=5)
@@ -171,6 +163,19 @@ def draw(path, phi, jobs, regions, looks, box):
     ax.set_title("phi = %g: %d runs; stars: the paper's six examples; numbers: N_r of (b)"
                  % (phi, len(jobs)), fontsize=9)
     save(fig, ax, path)
+
+
+def mark_people_and_unlabelled(ax, jobs):
+    """The dashboard's dot on a label a person set (web/js/humanlabels.js), a cross on no label."""
+    people = [j for j in jobs if j["person"]]
+    if people:
+        ax.scatter([math.log10(j["S"]) for j in people], [math.log10(j["R"]) for j in people],
+                   marker="o", s=9, c="black", edgecolors="white", linewidths=0.6, zorder=4,
+                   label="dot: label set by a person: %d" % len(people))
+    other = [j for j in jobs if not j["label"]]
+    if other:
+        ax.scatter([math.log10(j["S"]) for j in other], [math.log10(j["R"]) for j in other],
+                   marker="x", s=25, c="#555555", label="no label: %d" % len(other), zorder=3)
 
 
 def save(fig, ax, path):
