@@ -14,6 +14,7 @@ then (a), then (b) by a growing number of reflections, and (f) above R_crit.
 import math
 from collections import defaultdict
 
+import examples
 from cells import fmt
 
 
@@ -177,16 +178,19 @@ def comparison(jobs, phi, r_crit):
         out += ["**(a) below (b).** The (a)/(b) boundary upwards in R, past the bottom (e) block:", ""]
         out += bracket_rows(ab) + ["", interval_line(ab, "The (a)/(b) boundary"), ""]
 
-    # (a): c_b/V = 1/(1 - phi) for a non-reflecting band.
-    target = 1 / (1 - phi)
+    # (a): c_b/V = 1/(1 - phi) for a non-reflecting band. A band that leaves solid fraction
+    # phi_f <= 1 behind it and runs into material at rest and at phi moves at
+    # c_b/V = 1/(1 - phi/phi_f) >= 1/(1 - phi) (the paper's mass balance): the same value is the
+    # floor of every band's speed; a slower band runs into material that already compacts.
+    floor = 1 / (1 - phi)
     for name, sel in (("(a)", lambda j: j["label"] == "a"),
                       ("(a) with N_r = 0", lambda j: j["label"] == "a" and j["n_reflections"] == 0)):
         v = [j["c_b"] for j in jobs if sel(j) and j["c_b"] is not None]
         if v:
-            within = sum(1 for x in v if abs(x / target - 1) <= 0.05)
+            within = sum(1 for x in v if abs(x / floor - 1) <= 0.05)
             out.append("**c_b/V of %s**, %d runs, against 1/(1 - phi) = %s: median %s, 10 to 90 %% "
                        "%s to %s; within 5 %%: %d (%.0f %%)."
-                       % (name, len(v), fmt(target, 3), fmt(percentile(v, 0.5), 3),
+                       % (name, len(v), fmt(floor, 3), fmt(percentile(v, 0.5), 3),
                           fmt(percentile(v, 0.1), 3), fmt(percentile(v, 0.9), 3), within,
                           100.0 * within / len(v)))
     out.append("")
@@ -198,10 +202,6 @@ def comparison(jobs, phi, r_crit):
         rho = pearson(ranks([inertia(j) for j in b]), ranks([j["n_reflections"] for j in b]))
         out.append("**(b) by N_r.** %d runs (b): Spearman rank correlation of N_r with R/S^2: %s."
                    % (len(b), fmt(rho, 2)))
-    # A band that leaves solid fraction phi_f <= 1 behind it and runs into material at rest and
-    # at phi moves at c_b/V = 1/(1 - phi/phi_f) >= 1/(1 - phi) (the paper's mass balance); a
-    # slower band runs into material that already compacts ahead of it.
-    floor = 1 / (1 - phi)
     for name, sel in (("with a band speed", lambda j: True),
                       ("at or above the mass balance's floor 1/(1 - phi)",
                        lambda j: j["c_b"] >= floor)):
@@ -247,7 +247,6 @@ def comparison(jobs, phi, r_crit):
                sum(1 for j in low if j["label"] == "f"), len(low)), ""]
 
     # (c) near its example; (d) at low plate speed.
-    import examples
     Sc, Rc = examples.EXAMPLES["c"]
     cs = sorted((j for j in jobs if j["label"] == "c"),
                 key=lambda j: math.hypot(math.log10(j["S"] / Sc), math.log10(j["R"] / Rc)))

@@ -3,8 +3,9 @@
 rests on, read from the runs' bundles.
 
 The classifier calls a run two-sided (`two_sided`, the one feature that makes (c)) when a front
-from the bottom plate starts before the first leg of the top band is over (engine/classify,
-features.cpp). The paper's (c) is "crossing bands emerging from the two ends"; its example has
+from the bottom plate starts while the top band is on its first leg; since 0988e4f it must also
+start before the top band has passed the middle of the sample (engine/classify, features.cpp),
+and runs stored before then were two-sided by the first condition alone. The paper's (c) is "crossing bands emerging from the two ends"; its example has
 the bottom band start at eps ~ 0.05 and the two meet at mid-height. This lists, for every run
 of the given sweeps whose stored features say two-sided and whose bundle is on this machine,
 the bottom front that made it so: when it starts, how far it travels, and when the top band
@@ -27,6 +28,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from fig2 import ROOT, job_of  # noqa: E402
+from redecide import classifier_revision  # noqa: E402
 from compaction_client import Client  # noqa: E402
 from cells import fmt  # noqa: E402
 
@@ -36,11 +38,6 @@ def classify_fronts(classify, bundle):
     out = subprocess.run([classify, "--fronts", "--compact", bundle], check=True,
                          capture_output=True, text=True).stdout
     return json.loads(out)
-
-
-def revision(classify):
-    out = subprocess.run([classify, "--version"], check=True, capture_output=True, text=True)
-    return out.stdout.strip().split(" ", 1)[-1]
 
 
 def first_leg_end(f):
@@ -59,8 +56,11 @@ def eps_at_height(f, h):
 
 
 def crossing(fr):
-    """The top band from the onset and the bottom front that make the run two-sided (the
-    features' condition), the bottom front starting first; None if there is none."""
+    """The top band from the onset and the bottom front that made a stored run two-sided (the
+    condition before 0988e4f; whether today's classifier agrees is its own `two_sided`), the
+    bottom front starting first; None if there is none. The onset window, 0.05 of strain, is
+    FeatureSettings::onset_window's default (the classifier counts it from the first activity,
+    here from the first front)."""
     tops = [f for f in fr if f["origin"] == "top"]
     if not tops:
         return None
@@ -130,7 +130,7 @@ def main():
                                       len(starts) - k - 1)]
     lines += ["", "Runs stored as two-sided with a bundle here: %d, still two-sided by today's "
               "classifier (%s): %d. Runs stored as two-sided without a bundle here: %s."
-              % (len(rows), revision(a.classify), still,
+              % (len(rows), classifier_revision(a.classify), still,
                  ", ".join("job %d" % j["id"] for j in missing) or "none")]
     text = "\n".join(lines) + "\n"
     if a.out:

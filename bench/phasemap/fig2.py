@@ -133,19 +133,11 @@ def draw(path, phi, jobs, regions, looks, box):
                   vmax=5.5, alpha=0.28, interpolation="nearest")
         ax.imshow(np.where(unc > 0.5, 1.0, np.nan), origin="lower", extent=extent, aspect="auto",
                   cmap=ListedColormap(["#ffffff"]), alpha=0.55, interpolation="nearest")
-    for k in "abcdef":
-        pts = [j for j in jobs if j["label"] == k]
-        if not pts:
-            continue
-        ax.scatter([math.log10(j["S"]) for j in pts], [math.log10(j["R"]) for j in pts],
-                   marker=MARKERS[k], s=[20 + 50 * (j["confidence"] or 0) for j in pts],
-                   c=looks[k][1], edgecolors="#1d2433", linewidths=0.5,
-                   label="(%s) %s: %d" % (k, looks[k][0], len(pts)), zorder=3)
-        if k == "b":
-            for j in pts:
-                if j["n_reflections"] is not None:
-                    ax.annotate(str(j["n_reflections"]), (math.log10(j["S"]), math.log10(j["R"])),
-                                xytext=(4, 3), textcoords="offset points", fontsize=6, zorder=4)
+    scatter_classes(ax, jobs, looks, size=(20, 50))
+    for j in jobs:
+        if j["label"] == "b" and j["n_reflections"] is not None:
+            ax.annotate(str(j["n_reflections"]), (math.log10(j["S"]), math.log10(j["R"])),
+                        xytext=(4, 3), textcoords="offset points", fontsize=6, zorder=4)
     mark_people_and_unlabelled(ax, jobs)
     for k, (S, R) in examples.EXAMPLES.items():
         ax.scatter([math.log10(S)], [math.log10(R)], marker="*", s=260, facecolors="none",
@@ -163,6 +155,18 @@ def draw(path, phi, jobs, regions, looks, box):
     ax.set_title("phi = %g: %d runs; stars: the paper's six examples; numbers: N_r of (b)"
                  % (phi, len(jobs)), fontsize=9)
     save(fig, ax, path)
+
+
+def scatter_classes(ax, jobs, looks, size):
+    """One marker per run in its class's shape and colour (web/js/classes.js), of area
+    size[0] + size[1] x confidence, with a legend entry per class that has runs."""
+    for k in "abcdef":
+        pts = [j for j in jobs if j["label"] == k]
+        if pts:
+            ax.scatter([math.log10(j["S"]) for j in pts], [math.log10(j["R"]) for j in pts],
+                       marker=MARKERS[k], s=[size[0] + size[1] * (j["confidence"] or 0) for j in pts],
+                       c=looks[k][1], edgecolors="#1d2433", linewidths=0.5,
+                       label="(%s) %s: %d" % (k, looks[k][0], len(pts)), zorder=3)
 
 
 def mark_people_and_unlabelled(ax, jobs):

@@ -15,7 +15,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from fig2 import MARKERS, ROOT, class_looks, job_of, mark_people_and_unlabelled, save  # noqa: E402
+from fig2 import ROOT, class_looks, job_of, mark_people_and_unlabelled, save, scatter_classes  # noqa: E402
 from compaction_client import Client  # noqa: E402
 import examples  # noqa: E402
 from cells import fmt  # noqa: E402
@@ -52,13 +52,7 @@ def draw(path, done, looks, title):
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
-    for k in "abcdef":
-        pts = [j for j in done if j["label"] == k]
-        if pts:
-            ax.scatter([math.log10(j["S"]) for j in pts], [math.log10(j["R"]) for j in pts],
-                       marker=MARKERS[k], s=[15 + 60 * (j["confidence"] or 0) for j in pts],
-                       c=looks[k][1], edgecolors="#1d2433", linewidths=0.5,
-                       label="(%s) %s: %d" % (k, looks[k][0], len(pts)), zorder=3)
+    scatter_classes(ax, done, looks, size=(15, 60))
     mark_people_and_unlabelled(ax, done)
     xs = [math.log10(j["S"]) for j in done]
     ys = [math.log10(j["R"]) for j in done]
