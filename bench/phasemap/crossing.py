@@ -40,34 +40,14 @@ def classify_fronts(classify, bundle):
     return json.loads(out)
 
 
-def first_leg_end(f):
-    """As features.cpp: the first turn's strain, else the front's end."""
-    return f["turns"][0]["eps"] if f["turns"] else f["end_eps"]
-
-
-def eps_at_height(f, h):
-    """The strain at which a front passes height h (fraction of h0), on the straight line through
-    its start and end, or None if its first leg does not reach h (the classifier reads the
-    front's path instead; this is for the table)."""
-    h0, h1, e0, e1 = f["start_height"], f["end_height"], f["start_eps"], first_leg_end(f)
-    if h1 == h0 or not (min(h0, h1) <= h <= max(h0, h1)):
-        return None
-    return e0 + (h - h0) / (h1 - h0) * (e1 - e0)
-
-
 def crossing(fr):
     """The top band from the onset and the bottom front that made a stored run two-sided (the
     condition before 0988e4f; whether today's classifier agrees is its own `two_sided`), the
-    bottom front starting first; None if there is none. The onset window, 0.05 of strain, is
-    FeatureSettings::onset_window's default (the classifier counts it from the first activity,
-    here from the first front)."""
-    tops = [f for f in fr if f["origin"] == "top"]
-    if not tops:
-        return None
-    onset = min(f["start_eps"] for f in fr)
-    pairs = [(a, b) for a in tops if a["start_eps"] <= onset + 0.05
+    bottom front starting first; None if there is none. Whether a front starts at the onset and
+    where its first leg ends are the classifier's own readings (compaction-classify --fronts)."""
+    pairs = [(a, b) for a in fr if a["origin"] == "top" and a["at_onset"]
              for b in fr if b["origin"] == "bottom"
-             and b["start_eps"] < first_leg_end(a) and a["start_eps"] < first_leg_end(b)]
+             and b["start_eps"] < a["first_leg_end_eps"] and a["start_eps"] < b["first_leg_end_eps"]]
     return min(pairs, key=lambda p: p[1]["start_eps"]) if pairs else None
 
 
@@ -103,7 +83,8 @@ def main():
     lines = ["<!-- written by bench/phasemap/crossing.py --sweep %s; do not edit -->"
              % " --sweep ".join(map(str, a.sweep)), "",
              "| job | S | R | stored label | bottom front starts at eps | travels from / to "
-             "height | top band at mid-height at eps | two-sided today | today's label |",
+             "height | top band passes mid-height (else ends its first leg) at eps | two-sided today | "
+             "today's label |",
              "|---|---|---|---|---|---|---|---|---|"]
     still = 0
     for j, pair, today, confidence in sorted(rows, key=lambda x: (x[0]["S"], x[0]["R"])):
@@ -116,11 +97,9 @@ def main():
                             "yes" if today["features"]["two_sided"] else "no", verdict))
             continue
         top, bottom = pair
-        mid = eps_at_height(top, 0.5)
-        lines.append("| %d | %s | %s | %s | %.3f | %.2f / %.2f | %s | %s | %s |"
+        lines.append("| %d | %s | %s | %s | %.3f | %.2f / %.2f | %.3f | %s | %s |"
                      % (j["id"], fmt(j["S"]), fmt(j["R"]), stored, bottom["start_eps"],
-                        bottom["start_height"], bottom["end_height"],
-                        "-" if mid is None else "%.3f" % mid,
+                        bottom["start_height"], bottom["end_height"], top["passes_middle_eps"],
                         "yes" if today["features"]["two_sided"] else "no", verdict))
     starts = sorted(p[1]["start_eps"] for _, p, _, _ in rows if p)
     if len(starts) >= 2:  # the widest gap between the bottom fronts' starts splits them in two

@@ -21,6 +21,21 @@ check "run exits 0" test $rc -eq 0
 check "bundle classified" test $rc -eq 0
 check "bundle is (e)" grep -q '"class":"e"' "$out/bundle.json"
 
+# --fronts: every propagating front with the timing the two-sided rule reads of it. The explosive
+# run's fronts start at the onset; a first leg ends after it starts, and a front passes the
+# middle on its first leg or the reading is that leg's end.
+"$classify" --fronts --compact "$out/b" > "$out/fronts.json" 2> "$out/err"; rc=$?
+check "--fronts exits 0" test $rc -eq 0
+timing=$(python3 - "$out/fronts.json" <<'PY'
+import json, sys
+fr = json.load(open(sys.argv[1]))["fronts"]
+bad = [f for f in fr if not (isinstance(f["at_onset"], bool)
+                             and f["start_eps"] <= f["passes_middle_eps"] <= f["first_leg_end_eps"] <= f["end_eps"])]
+print("none" if not fr else "bad" if bad else "no onset" if not any(f["at_onset"] for f in fr) else "ok")
+PY
+)
+check "--fronts gives each front's onset and first leg ($timing)" test "$timing" = ok
+
 "$classify" "$out/b" --features "$out/b/summary.json" 2> "$out/err"; rc=$?
 check "both inputs exit 2" test $rc -eq 2
 "$classify" --fronts --features "$out/b/summary.json" 2> "$out/err"; rc=$?

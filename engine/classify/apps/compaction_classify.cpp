@@ -59,7 +59,8 @@ int main(int argc, char** argv) {
   cl.text("--features", features_file, "FILE",
           "decide from a run's stored features instead of a bundle (see below)", {},
           /*non_empty=*/true);
-  cl.flag("--fronts", fronts, "also print every propagating front (origin, start, end, speed, turns)");
+  cl.flag("--fronts", fronts, "also print every propagating front (origin, start, end, speed, turns, and the\n"
+          "timing the two-sided rule reads)");
   cl.flag("--compact", compact, "one line of JSON instead of indented");
   cl.notes(kNotes);
   if (const auto code = cl.parse(argc, argv)) return *code;
@@ -82,7 +83,8 @@ int main(int argc, char** argv) {
   }
   try {
     const Bundle b = read_bundle(dir);
-    const classify::Classification c = classify::classify(b.params, b.result);
+    const classify::Settings settings;  // the classifier's own numbers (settings.hpp)
+    const classify::Classification c = classify::classify(b.params, b.result, settings);
     nlohmann::json out = classify::to_json(c);
     out["status"] = to_string(b.result.status);
     if (fronts) {
@@ -91,9 +93,13 @@ int main(int argc, char** argv) {
         if (!fr.propagating) continue;
         nlohmann::json turns = nlohmann::json::array();
         for (const auto& t : fr.turns) turns.push_back({{"eps", t.eps}, {"at", classify::to_string(t.where)}});
+        const classify::FrontTiming timing = classify::front_timing(c.tracks, fr, settings.features);
         list.push_back({{"origin", classify::to_string(fr.origin)},
                         {"start_eps", fr.start_eps()},
                         {"end_eps", fr.end_eps()},
+                        {"at_onset", timing.at_onset},
+                        {"first_leg_end_eps", timing.first_leg_end_eps},
+                        {"passes_middle_eps", timing.passes_middle_eps},
                         {"start_height", fr.path.front().centroid},
                         {"end_height", fr.path.back().centroid},
                         {"speed_over_V", std::isfinite(fr.speed) ? nlohmann::json(fr.speed) : nlohmann::json()},

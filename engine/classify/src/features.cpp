@@ -76,17 +76,23 @@ Harmonic harmonic(const std::vector<double>& x, const std::vector<double>& y, do
   return h;
 }
 
+// Strain of the first active segment (NaN: no activity).
+double first_activity(const FrontTracks& t) {
+  for (const auto& segs : t.segments) {
+    if (!segs.empty()) return segs.front().eps;
+  }
+  return kNaN;
+}
+
+// A front that starts within onset_window of the first activity (false when there is none).
+bool at_onset(const Front& fr, double first_activity_eps, const FeatureSettings& s) {
+  return fr.start_eps() <= first_activity_eps + s.onset_window;
+}
+
 // Counts of the propagating fronts, where they start, the bottom front's speed, and whether
 // the run is two-sided.
 void front_counts(const FrontTracks& t, const FeatureSettings& s, Features& F) {
-  double first_activity = kNaN;
-  for (const auto& segs : t.segments) {
-    if (!segs.empty()) { first_activity = segs.front().eps; break; }
-  }
-  // A front that starts within onset_window of the first activity (false when there is none).
-  auto at_onset = [&](const Front& fr) {
-    return fr.start_eps() <= first_activity + s.onset_window;
-  };
+  const double onset = first_activity(t);
   double bottom_mass = 0.0;
   const Front* bottom = nullptr;
   for (const auto& fr : t.fronts) {
@@ -97,7 +103,7 @@ void front_counts(const FrontTracks& t, const FeatureSettings& s, Features& F) {
       F.bottom_front = true;
       if (fr.mass() > bottom_mass) { bottom_mass = fr.mass(); bottom = &fr; }
     }
-    if (at_onset(fr)) {
+    if (at_onset(fr, onset, s)) {
       ++F.n_fronts_onset;
       F.onset_origins.push_back(to_string(fr.origin));
     }
@@ -109,7 +115,7 @@ void front_counts(const FrontTracks& t, const FeatureSettings& s, Features& F) {
   // nears the bottom plate (it meets the band in the lower half), near densification, or a
   // reflected band: not a second band emerging.
   for (const auto& a : t.fronts) {
-    if (!a.propagating || a.origin != Origin::top || !at_onset(a)) continue;
+    if (!a.propagating || a.origin != Origin::top || !at_onset(a, onset, s)) continue;
     for (const auto& b : t.fronts) {
       if (!b.propagating || b.origin != Origin::bottom) continue;
       if (b.start_eps() < passes_middle(a) && a.start_eps() < first_leg_end(b)) F.two_sided = true;
@@ -247,6 +253,10 @@ void stress_features(const std::vector<Frame>& fr, double leg_end, double cell,
 }
 
 }  // namespace
+
+FrontTiming front_timing(const FrontTracks& tracks, const Front& front, const FeatureSettings& s) {
+  return {at_onset(front, first_activity(tracks), s), first_leg_end(front), passes_middle(front)};
+}
 
 MapAxes map_axes(const SceneParams& p, const RunResult& r) {
   MapAxes a;

@@ -67,6 +67,17 @@ struct Features {
   double eps_reached = 0.0;          // strain the run reached                       [-]
 };
 
+// What the two-sided rule reads of one front (features.cpp), for tools that show it per front
+// (compaction-classify --fronts).
+struct FrontTiming {
+  bool at_onset = false;          // starts within onset_window of the run's first activity
+  double first_leg_end_eps = 0.0; // its first turn's strain, else its end          [strain]
+  double passes_middle_eps = 0.0; // its first leg passes h0 / 2 (a front from the top: the
+                                  // material below it is at rest), else first_leg_end [strain]
+};
+FrontTiming front_timing(const FrontTracks& tracks, const Front& front,
+                         const FeatureSettings& s = {});
+
 // Axes of the run's space-time map (strain of each frame, h0, unit cell).
 MapAxes map_axes(const SceneParams& p, const RunResult& r);
 
