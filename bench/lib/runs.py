@@ -42,6 +42,18 @@ def run_one(work, name, flags, run=RUN):
     return out
 
 
+def check_all(scenes, run=RUN):
+    """Asks the runner to validate every scene (`--check`) before any runs: a flag out of range
+    exits naming the scene and the runner's own message, not an hour later."""
+    for name, flags in scenes.items():
+        cmd = [run, "--check"]
+        for k, v in flags.items():
+            cmd += ["--" + k.replace("_", "-"), str(v)]
+        res = subprocess.run(cmd, capture_output=True, text=True)
+        if res.returncode != 0:
+            sys.exit("%s: %s" % (name, res.stderr.strip() or "refused (exit %d)" % res.returncode))
+
+
 def run_all(work, scenes, jobs=1, run=RUN):
     """scenes: {name: flags}. Runs the missing ones, `jobs` at a time; returns {name: dir}."""
     os.makedirs(work, exist_ok=True)

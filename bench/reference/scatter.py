@@ -6,17 +6,17 @@ is converged when its mean moves between levels by less than this scatter; one r
 cannot tell (b)'s mechanism change from round-off.
 
 usage: bench/reference/scatter.py --example b [--cells-per-strut 4.5] [--pore-contact auto]
-           [--perturbation 0.01] [--seeds 1,2,3,4] [--eps-end 0.2] [--jobs 2]
+           [--nu 0.3] [--perturbation 0.01] [--seeds 1,2,3,4] [--eps-end 0.2] [--jobs 2]
            [--work DIR] [--bin build/bin] [--out FILE]
 
 Runs what is missing in --work (a bundle there is not made again), two at a time with --jobs 2,
-each on one thread, then writes --out (default docs/reference/scatter-EXAMPLE-CELLS-epsEPS.md):
+each on one thread, then writes --out (default docs/reference/scatter-EXAMPLE-CELLS-epsEPS.md,
+with -nuNU when --nu is given):
 per run the label, N_r and both readings of c_b/V with their uncertainties (docs/classifier.md);
 over the perturbed runs the mean, the sample standard deviation and the range of each reading,
 and where the unperturbed run lies against them.
 """
 import argparse
-import math
 import os
 import sys
 
@@ -24,18 +24,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 from examples import EXAMPLES  # noqa: E402
 from cells import fmt  # noqa: E402
+from spread import stats  # noqa: E402
 
 PHI = 0.4  # the paper's examples
-
-
-def stats(values):
-    """Mean, sample standard deviation and range of the finite values; None where too few."""
-    v = [x for x in values if x is not None and math.isfinite(x)]
-    if not v:
-        return None
-    mean = sum(v) / len(v)
-    sd = math.sqrt(sum((x - mean) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else None
-    return {"n": len(v), "mean": mean, "sd": sd, "min": min(v), "max": max(v)}
 
 
 def positive(kind):
@@ -57,6 +48,9 @@ def main():
                     help="grid cells across the thinnest strut (the default preset: 4.5)")
     ap.add_argument("--pore-contact", default="auto", choices=("auto", "single_field", "split_fields"),
                     help="contact across closing pores (the presets: auto)")
+    ap.add_argument("--nu", type=float, default=None,
+                    help="Poisson's ratio (the runner's range and default; at fixed S and R the "
+                         "paper's patterns do not depend on it: docs/validation.md, Invariance)")
     ap.add_argument("--perturbation", type=positive(float), default=0.01,
                     help="random particle offset, a fraction of the particle spacing, at most 0.5")
     ap.add_argument("--seeds", default="1,2,3,4", help="comma list of the perturbed runs' seeds")
@@ -78,16 +72,21 @@ def main():
         ap.error("--seeds: at least one seed, none twice, got %r" % a.seeds)
     if a.out is None:
         a.out = os.path.join(runs.ROOT, "docs", "reference",
-                             "scatter-%s-%g-eps%g.md" % (a.example, a.cells_per_strut, a.eps_end))
+                             "scatter-%s-%g-eps%g%s.md" % (a.example, a.cells_per_strut, a.eps_end,
+                                                           "" if a.nu is None else "-nu%g" % a.nu))
 
     S, R = EXAMPLES[a.example]
     base = {"S": S, "R": R, "phi": PHI, "cells_per_strut": a.cells_per_strut,
             "pore_contact": a.pore_contact, "eps_end": a.eps_end, "snapshot_eps": ""}
+    if a.nu is not None:
+        base["nu"] = a.nu
     # A run's folder names everything that sets its scene, so --work can hold several studies.
-    prefix = "%s-c%g-%s-e%g" % (a.example, a.cells_per_strut, a.pore_contact, a.eps_end)
+    prefix = "%s-c%g-%s-e%g%s" % (a.example, a.cells_per_strut, a.pore_contact, a.eps_end,
+                                  "" if a.nu is None else "-nu%g" % a.nu)
     runs_wanted = [(0.0, 1)] + [(a.perturbation, s) for s in seeds]
     scenes = {"%s-p%g-s%d" % (prefix, p, s): dict(base, perturbation=p, seed=s)
               for p, s in runs_wanted}
+    runs.check_all(scenes, run=os.path.join(a.bin, "compaction-run"))
     dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=os.path.join(a.bin, "compaction-run"))
     classify_bin = os.path.join(a.bin, "compaction-classify")
 
@@ -96,7 +95,7 @@ def main():
         r = runs.reading(dirs[name], classify_bin)
         if r is None:
             sys.exit("scatter.py: %s did not finish (no summary.json in %s)" % (name, dirs[name]))
-        grid = r["summary"]["grid"]
+        grid, nu = r["summary"]["grid"], r["summary"]["params"]["nu"]
         rows.append("| %g | %s | %s (%s) | %s | %s +- %s | %s +- %s | %s | %.0f |" % (
             p, s, r["label"], fmt(r["confidence"], 2), r["n_r"],
             fmt(r["fit"]), fmt(r["fit_err"], 2), fmt(r["transit"]), fmt(r["transit_err"], 2),
@@ -108,13 +107,13 @@ def main():
 
     lines = ["# Run-to-run scatter of (%s) at %g cells across a strut (%s)" % (
                  a.example, a.cells_per_strut, a.pore_contact), "",
-             "Made by `bench/reference/scatter.py %s`. S = %g, R = %g, phi = %g, pseudo-1D, "
+             "Made by `bench/reference/scatter.py %s`. S = %g, R = %g, phi = %g, nu = %g, pseudo-1D, "
              "%d cells per unit cell (%.2f across the thinnest strut), to eps = %g, one thread "
              "a run. The perturbed runs move every particle at random by up to %g of the "
              "particle spacing (`--perturbation`, seeded). c_b/V in both readings (fit: slope of "
              "the leading edge before its first turn; transit: mean speed of the first leg; "
              "docs/classifier.md), with the classifier's uncertainty of each run." % (
-                 " ".join(sys.argv[1:]), S, R, PHI, grid["cells_per_unit"],
+                 " ".join(sys.argv[1:]), S, R, PHI, nu, grid["cells_per_unit"],
                  grid["cells_per_strut"], a.eps_end, a.perturbation), "",
              "| perturbation | seed | label (confidence) | N_r | c_b/V fit | c_b/V transit | status | wall [s] |",
              "|---|---|---|---|---|---|---|---|"] + rows + [""]

@@ -12,11 +12,23 @@ same label and N_r, c_b/V within 5 %; scaled q_y and rho agree to round-off (1e-
 The pore contact is the presets' (--pore-contact auto: two velocity fields across closing pores
 where the grid resolves them); --pore-contact single_field measures the one-field engine.
 
+With --seeds, each of the reference material, nu = 0.2 and nu = 0.35 is an ensemble: the run
+above plus one run per seed with the particles moved at random by --perturbation of their
+spacing (as bench/reference/scatter.py does). Near a change of mechanism one run of (b) is one
+draw from a wide spread (docs/reference.md), so a single pair of runs cannot say whether nu
+moves the pattern; the ensembles compare the most common label, the N_r seen and the means of
+both readings of c_b/V (within 5 %, and against the standard error of the difference of the
+means). The scaled material is left out there: it is the same dimensionless problem, equal to
+round-off run by run (the table without --seeds, and classify_invariance_gtest).
+
 usage: bench/validation/invariance.py [--cells-per-strut 4.5,9] [--examples a,b] [--work DIR]
-                                     [--bin DIR] [--jobs N] [--pore-contact MODE] [--out FILE]
+                                     [--bin DIR] [--jobs N] [--pore-contact MODE]
+                                     [--seeds 1,2,3,4 [--perturbation 0.01]] [--out FILE]
 Exit code 1 when a variant differs at the finest resolution asked for.
 """
 import argparse
+import collections
+import math
 import os
 import sys
 
@@ -24,6 +36,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 import examples  # noqa: E402
 from cells import fmt  # noqa: E402
+from spread import stats  # noqa: E402
 
 EXAMPLES = {k: dict(zip(("S", "R"), examples.EXAMPLES[k])) for k in "ab"}
 BASE = {"phi": 0.4, "eps_end": 0.2, "snapshot_eps": ""}
@@ -34,6 +47,7 @@ VARIANTS = {  # name: (changed material constants, what the check allows)
     "nu = 0.35": ({"nu": 0.35}, "5 %"),
 }
 TOLERANCE = {"round-off": 1e-9, "5 %": 0.05}
+ENSEMBLE_VARIANTS = ("reference material", "nu = 0.2", "nu = 0.35")  # with --seeds
 
 
 def maps_figure(a, resolutions, examples, dirs, name):
@@ -63,6 +77,55 @@ def maps_figure(a, resolutions, examples, dirs, name):
     return path
 
 
+def ensemble_report(resolutions, examples, readings):
+    """The tables of the ensembles (--seeds): readings[(ex, cps, variant)] is the list of the
+    runs' readings, the unperturbed run first. Returns the report's lines and, per resolution,
+    the variants that differ from the reference material."""
+    lines, failures = [], {cps: [] for cps in resolutions}
+    for cps, ex in ((c, e) for c in resolutions for e in examples):
+        sr = EXAMPLES[ex]
+        lines += ["## (%s): R = %g, %g cells across a strut, %d runs a material" % (
+                      ex, sr["R"], cps, len(readings[(ex, cps, ENSEMBLE_VARIANTS[0])])), "",
+                  "| material | labels | N_r | c_b/V fit: mean +- sd | c_b/V transit: mean +- sd | "
+                  "against the reference material: most common label, means (difference / its "
+                  "standard error) | wall [s] |",
+                  "|---|---|---|---|---|---|---|"]
+        base = None
+        for variant in ENSEMBLE_VARIANTS:
+            rs = readings[(ex, cps, variant)]
+            labels = collections.Counter(r["label"] for r in rs)
+            top = labels.most_common(1)[0][0]
+            nrs = sorted({r["n_r"] for r in rs})
+            st = {k: stats([r[k] for r in rs]) for k in ("fit", "transit")}
+            verdict = "-"
+            if base is None:
+                base = (top, nrs, st)
+            else:
+                parts, ok = [], top == base[0] and nrs == base[1]
+                for k in ("fit", "transit"):
+                    m, b = st[k], base[2][k]
+                    if m is None or b is None:
+                        parts.append("%s -" % k)
+                        ok = False
+                        continue
+                    dev = m["mean"] / b["mean"] - 1
+                    se = math.sqrt((m["sd"] or 0) ** 2 / m["n"] + (b["sd"] or 0) ** 2 / b["n"])
+                    ok = ok and abs(dev) <= TOLERANCE["5 %"]
+                    parts.append("%s %+.1f %% (%s)" % (
+                        k, 100 * dev, "%.1f" % (abs(m["mean"] - b["mean"]) / se) if se > 0 else "-"))
+                verdict = "%s: %s%s" % ("same" if ok else "DIFFERENT", "; ".join(parts),
+                                         "" if top == base[0] else ", label " + top)
+                if not ok:
+                    failures[cps].append("(%s) %s" % (ex, variant))
+            cell = lambda m: "-" if m is None else "%s +- %s" % (fmt(m["mean"], 4), fmt(m["sd"], 2))
+            lines.append("| %s | %s | %s | %s | %s | %s | %.0f-%.0f |" % (
+                variant, ", ".join("%s %d" % kv for kv in sorted(labels.items())),
+                ", ".join(map(str, nrs)), cell(st["fit"]), cell(st["transit"]), verdict,
+                min(r["wall"] for r in rs), max(r["wall"] for r in rs)))
+        lines.append("")
+    return lines, failures
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cells-per-strut", default="4.5")
@@ -72,12 +135,30 @@ def main():
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--pore-contact", default="auto", choices=("auto", "single_field", "split_fields"),
                     help="the scenes' pore contact [auto, as the default and reference presets]")
-    ap.add_argument("--out", default=None, help="default docs/validation/invariance.md, or "
-                    "invariance-single-field.md with --pore-contact single_field")
+    ap.add_argument("--seeds", default=None,
+                    help="comma list of seeds: compare ensembles of perturbed runs (see above)")
+    ap.add_argument("--perturbation", type=float, default=0.01,
+                    help="with --seeds: random particle offset, a fraction of the particle spacing")
+    ap.add_argument("--out", default=None, help="default docs/validation/invariance.md, "
+                    "invariance-single-field.md with --pore-contact single_field, "
+                    "invariance-ensembles.md with --seeds")
     a = ap.parse_args()
+    seeds = []
+    if a.seeds is not None:
+        try:
+            seeds = [int(x) for x in a.seeds.split(",") if x.strip()]
+        except ValueError:
+            ap.error("--seeds: a comma list of whole numbers, got %r" % a.seeds)
+        if not seeds or len(set(seeds)) != len(seeds):
+            ap.error("--seeds: at least one seed, none twice, got %r" % a.seeds)
+        if not 0 < a.perturbation <= 0.5:
+            ap.error("--perturbation: above 0 and at most 0.5 of the particle spacing, got %g"
+                     % a.perturbation)
     if a.out is None:
-        a.out = os.path.join(runs.ROOT, "docs", "validation", "invariance.md" if a.pore_contact != "single_field"
-                             else "invariance-single-field.md")
+        a.out = os.path.join(runs.ROOT, "docs", "validation",
+                             "invariance-ensembles.md" if seeds else
+                             "invariance.md" if a.pore_contact != "single_field" else
+                             "invariance-single-field.md")
     run_bin, classify_bin = (os.path.join(a.bin, b) for b in ("compaction-run", "compaction-classify"))
     resolutions = [float(c) for c in a.cells_per_strut.split(",")]
     examples = [e for e in a.examples.split(",") if e]
@@ -86,13 +167,47 @@ def main():
             ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
     suffix = "" if a.pore_contact == "single_field" else "-" + a.pore_contact  # a run's folder in --work
     name = lambda ex, cps, i: "%s-cps%g-%d%s" % (ex, cps, i, suffix)
-    scenes = {}
+    perturbed = lambda ex, cps, i, seed: "%s-p%g-s%d" % (name(ex, cps, i), a.perturbation, seed)
+    scenes, members = {}, {}  # members[(ex, cps, variant)]: the ensemble's runs, unperturbed first
     for cps in resolutions:
         for ex in examples:
             for i, (variant, (material, _)) in enumerate(VARIANTS.items()):
-                scenes[name(ex, cps, i)] = dict(BASE, **EXAMPLES[ex], **material, cells_per_strut=cps,
-                                                pore_contact=a.pore_contact)
+                if seeds and variant not in ENSEMBLE_VARIANTS:
+                    continue
+                scene = dict(BASE, **EXAMPLES[ex], **material, cells_per_strut=cps,
+                             pore_contact=a.pore_contact)
+                scenes[name(ex, cps, i)] = scene
+                members[(ex, cps, variant)] = [name(ex, cps, i)]
+                for seed in seeds:
+                    scenes[perturbed(ex, cps, i, seed)] = dict(scene, perturbation=a.perturbation, seed=seed)
+                    members[(ex, cps, variant)].append(perturbed(ex, cps, i, seed))
+    runs.check_all(scenes, run=run_bin)
     dirs = runs.run_all(a.work, scenes, jobs=a.jobs, run=run_bin)
+    if seeds:
+        lines = ["# Invariance at fixed S and R: nu, over ensembles of perturbed runs", "",
+                 "Made by `bench/validation/invariance.py %s`. phi = 0.4, pseudo-1D, to eps = 0.2, "
+                 "S = 4e-3, pore contact %s. Each material is %d runs: unperturbed, and with every "
+                 "particle moved at random by up to %g of the particle spacing for the seeds %s. "
+                 "Checked against the reference material (nu = 0.3) of the same example and "
+                 "resolution: the same most common label and set of N_r, and the means of both "
+                 "readings of c_b/V within 5 %%; in brackets the difference of the means over its "
+                 "standard error (sd^2/n of both ensembles), so that a reader sees whether a "
+                 "difference stands out of the scatter." % (
+                     " ".join(sys.argv[1:]), a.pore_contact, 1 + len(seeds), a.perturbation,
+                     ", ".join(map(str, seeds))), ""]
+        readings = {key: [runs.reading(dirs[n], classify_bin) for n in names]
+                    for key, names in members.items()}
+        body, failures = ensemble_report(resolutions, examples, readings)
+        lines += body
+        for cps in resolutions:
+            lines.append("Result at %g cells across a strut: %s" % (cps, (
+                "every ensemble gives the reference material's pattern." if not failures[cps] else
+                "differs from the reference material: " + "; ".join(failures[cps]) + ".")))
+        lines.append("")
+        with open(a.out, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        print("\n".join(lines))
+        return 1 if failures[max(resolutions)] else 0
 
     lines = ["# Invariance at fixed S and R: q_y, rho and nu", "",
              "Made by `bench/validation/invariance.py %s`. phi = 0.4, pseudo-1D, to eps = 0.2, "

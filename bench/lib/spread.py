@@ -1,0 +1,13 @@
+"""The spread of a reading over an ensemble of runs (perturbed particles, several seeds)."""
+import math
+
+
+def stats(values):
+    """Mean, sample standard deviation and range of the finite values; None where there are
+    none (the standard deviation is None for a single value)."""
+    v = [x for x in values if x is not None and math.isfinite(x)]
+    if not v:
+        return None
+    mean = sum(v) / len(v)
+    sd = math.sqrt(sum((x - mean) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else None
+    return {"n": len(v), "mean": mean, "sd": sd, "min": min(v), "max": max(v)}
