@@ -1,4 +1,5 @@
 """The spread of a reading over an ensemble of runs (perturbed particles, several seeds)."""
+import argparse
 import math
 
 
@@ -11,3 +12,14 @@ def stats(values):
     mean = sum(v) / len(v)
     sd = math.sqrt(sum((x - mean) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else None
     return {"n": len(v), "mean": mean, "sd": sd, "min": min(v), "max": max(v)}
+
+
+def seed_list(text):
+    """argparse type of --seeds: a comma list of whole numbers, at least one, none twice."""
+    try:
+        seeds = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError("a comma list of whole numbers, got %r" % text)
+    if not seeds or len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError("at least one seed, none twice, got %r" % text)
+    return seeds

@@ -24,7 +24,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 from examples import EXAMPLES  # noqa: E402
 from cells import fmt  # noqa: E402
-from spread import stats  # noqa: E402
+from spread import seed_list, stats  # noqa: E402
 
 PHI = 0.4  # the paper's examples
 
@@ -52,24 +52,17 @@ def main():
                     help="Poisson's ratio (the runner's range and default; at fixed S and R the "
                          "paper's patterns do not depend on it: docs/validation.md, Invariance)")
     ap.add_argument("--perturbation", type=positive(float), default=0.01,
-                    help="random particle offset, a fraction of the particle spacing, at most 0.5")
-    ap.add_argument("--seeds", default="1,2,3,4", help="comma list of the perturbed runs' seeds")
+                    help="random particle offset, a fraction of the particle spacing (the runner's range)")
+    ap.add_argument("--seeds", type=seed_list, default="1,2,3,4", help="comma list of the perturbed runs' seeds")
     ap.add_argument("--eps-end", type=positive(float), default=0.2)
     ap.add_argument("--jobs", type=positive(int), default=1)
     ap.add_argument("--work", default=os.path.join(runs.ROOT, "out", "scatter"))
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
-    if a.perturbation > 0.5:
-        ap.error("--perturbation: at most 0.5 of the particle spacing, got %g" % a.perturbation)
     if a.eps_end > 1 - PHI + 1e-12:
         ap.error("--eps-end: at most full density (1 - phi = %g), got %g" % (1 - PHI, a.eps_end))
-    try:
-        seeds = [int(s) for s in a.seeds.split(",") if s.strip()]
-    except ValueError:
-        ap.error("--seeds: a comma list of whole numbers, got %r" % a.seeds)
-    if not seeds or len(set(seeds)) != len(seeds):
-        ap.error("--seeds: at least one seed, none twice, got %r" % a.seeds)
+    seeds = a.seeds
     if a.out is None:
         a.out = os.path.join(runs.ROOT, "docs", "reference",
                              "scatter-%s-%g-eps%g%s.md" % (a.example, a.cells_per_strut, a.eps_end,

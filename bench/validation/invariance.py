@@ -36,7 +36,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 import examples  # noqa: E402
 from cells import fmt  # noqa: E402
-from spread import stats  # noqa: E402
+from spread import seed_list, stats  # noqa: E402
 
 EXAMPLES = {k: dict(zip(("S", "R"), examples.EXAMPLES[k])) for k in "ab"}
 BASE = {"phi": 0.4, "eps_end": 0.2, "snapshot_eps": ""}
@@ -126,6 +126,20 @@ def ensemble_report(resolutions, examples, readings):
     return lines, failures
 
 
+def write_report(path, lines, resolutions, failures, what):
+    """Ends the report with the result at each resolution, writes and prints it; the exit code
+    is 1 when something differs at the finest resolution."""
+    for cps in resolutions:
+        lines.append("Result at %g cells across a strut: %s" % (cps, (
+            "%s gives the reference material's pattern." % what if not failures[cps] else
+            "differs from the reference material: " + "; ".join(failures[cps]) + ".")))
+    lines.append("")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    return 1 if failures[max(resolutions)] else 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cells-per-strut", default="4.5")
@@ -135,25 +149,19 @@ def main():
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--pore-contact", default="auto", choices=("auto", "single_field", "split_fields"),
                     help="the scenes' pore contact [auto, as the default and reference presets]")
-    ap.add_argument("--seeds", default=None,
+    ap.add_argument("--seeds", type=seed_list, default=None,
                     help="comma list of seeds: compare ensembles of perturbed runs (see above)")
     ap.add_argument("--perturbation", type=float, default=0.01,
-                    help="with --seeds: random particle offset, a fraction of the particle spacing")
+                    help="with --seeds: random particle offset, a fraction of the particle spacing "
+                         "(the runner's range)")
     ap.add_argument("--out", default=None, help="default docs/validation/invariance.md, "
                     "invariance-single-field.md with --pore-contact single_field, "
                     "invariance-ensembles.md with --seeds")
     a = ap.parse_args()
-    seeds = []
-    if a.seeds is not None:
-        try:
-            seeds = [int(x) for x in a.seeds.split(",") if x.strip()]
-        except ValueError:
-            ap.error("--seeds: a comma list of whole numbers, got %r" % a.seeds)
-        if not seeds or len(set(seeds)) != len(seeds):
-            ap.error("--seeds: at least one seed, none twice, got %r" % a.seeds)
-        if not 0 < a.perturbation <= 0.5:
-            ap.error("--perturbation: above 0 and at most 0.5 of the particle spacing, got %g"
-                     % a.perturbation)
+    seeds = a.seeds or []
+    if seeds and not a.perturbation > 0:
+        ap.error("--perturbation: above 0 with --seeds (the unperturbed run is in every ensemble), "
+                 "got %g" % a.perturbation)
     if a.out is None:
         a.out = os.path.join(runs.ROOT, "docs", "validation",
                              "invariance-ensembles.md" if seeds else
@@ -198,16 +206,7 @@ def main():
         readings = {key: [runs.reading(dirs[n], classify_bin) for n in names]
                     for key, names in members.items()}
         body, failures = ensemble_report(resolutions, examples, readings)
-        lines += body
-        for cps in resolutions:
-            lines.append("Result at %g cells across a strut: %s" % (cps, (
-                "every ensemble gives the reference material's pattern." if not failures[cps] else
-                "differs from the reference material: " + "; ".join(failures[cps]) + ".")))
-        lines.append("")
-        with open(a.out, "w") as f:
-            f.write("\n".join(lines) + "\n")
-        print("\n".join(lines))
-        return 1 if failures[max(resolutions)] else 0
+        return write_report(a.out, lines + body, resolutions, failures, "every ensemble")
 
     lines = ["# Invariance at fixed S and R: q_y, rho and nu", "",
              "Made by `bench/validation/invariance.py %s`. phi = 0.4, pseudo-1D, to eps = 0.2, "
@@ -250,15 +249,7 @@ def main():
                   "Space-time maps (log10 of the row-averaged plastic strain rate / (V/h0), rows "
                   "against frames of d_eps = 0.002) of every run above, one row per example and "
                   "resolution, the variants in the tables' order.", ""]
-    for cps in resolutions:
-        lines.append("Result at %g cells across a strut: %s" % (cps, (
-            "every variant gives the reference material's pattern." if not failures[cps] else
-            "differs from the reference material: " + "; ".join(failures[cps]) + ".")))
-    lines.append("")
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
-    return 1 if failures[max(resolutions)] else 0
+    return write_report(a.out, lines, resolutions, failures, "every variant")
 
 
 if __name__ == "__main__":
