@@ -160,6 +160,22 @@ def row(expected, r):
             f"{r['wall']:.1f} | {r['geometry']} {r['cells']}/cell, eps {r['eps_end']:g} |")
 
 
+# The classifier's two readings of c_b/V, each with its uncertainty (docs/classifier.md).
+READINGS = (("band_speed_ratio", "fit"), ("band_speed_transit", "transit"))
+
+
+def reading_gap(r2, r1, key, name):
+    """One reading of c_b/V in full 2D against pseudo-1D: both values with their uncertainty and
+    the relative difference."""
+    f2, f1 = r2["cls"]["features"], r1["cls"]["features"]
+    v2, v1 = f2.get(key), f1.get(key)
+    err = "band_speed_error" if key == "band_speed_ratio" else "band_speed_transit_error"
+    if not v1 or not v2:
+        return f"{name} -"
+    return (f"{name} {fmt(v2)} +- {fmt(f2.get(err), 2)} against {fmt(v1)} +- {fmt(f1.get(err), 2)}, "
+            f"{100 * (v2 / v1 - 1):+.1f} %")
+
+
 HEADER = ("| expected | found | match | confidence | runner-up | N_r | c_b/V | 1/(1-phi) | "
           "top/bottom stress | coherence | peak jump [cells] | deflection growth [dec] | wall [s] | run |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -294,19 +310,22 @@ def main():
     if "full2d" in sections:
         for c2 in full2d_cells(args):
             md += [f"## Full 2D (17 x 34 cells, {c2} cells per unit cell) against pseudo-1D", "", HEADER]
-            gaps = []
+            gaps, maps = [], []
+            suffix = "" if args.pore_contact == "single_field" else f"_{args.pore_contact}"
             for k in ("a", "b"):
                 S, R, _ = EXAMPLES[k]
                 e = FULL2D_EPS * args.eps_scale
                 r2 = run(args, f"{k}_2d_{c2}_{e:g}", S, R, c2, e, "full2d")
                 r1 = run(args, f"{k}_p1d_{c2}_{e:g}", S, R, c2, e)
                 md += [row(k, r2), row(k, r1)]
-                v2, v1 = r2["cls"]["band_speed_ratio"], r1["cls"]["band_speed_ratio"]
                 same = r2["cls"]["class"] == r1["cls"]["class"]
-                gap = f"{100 * (v2 / v1 - 1):+.1f} %" if v1 and v2 else "-"
                 gaps.append(f"({k}): full 2D labelled {r2['cls']['class']}, pseudo-1D {r1['cls']['class']} "
-                            f"({'same' if same else '**different**'}); c_b/V full 2D against pseudo-1D {gap}")
-            md += [""] + [f"- {g}" for g in gaps] + [""]
+                            f"({'same' if same else '**different**'}); c_b/V full 2D against pseudo-1D: "
+                            + "; ".join(reading_gap(r2, r1, key, name) for key, name in READINGS))
+                maps.append(f"**({k})** full 2D ![{k} full 2D]({copy_map(args, r2, f'{k}_2d_{c2}{suffix}')}) "
+                            f"pseudo-1D ![{k} pseudo-1D]({copy_map(args, r1, f'{k}_p1d_{c2}{suffix}')})")
+            md += [""] + [f"- {g}" for g in gaps] + ["", "Space-time maps (height up, eps to the right):", ""]
+            md += [m + "\n" for m in maps]
 
     notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
     if os.path.exists(notes) and not args.no_notes:  # what was found, written by hand for the measured resolution
