@@ -72,8 +72,9 @@ struct Features {
 struct FrontTiming {
   bool at_onset = false;          // starts within onset_window of the run's first activity
   double first_leg_end_eps = 0.0; // its first turn's strain, else its end          [strain]
-  double passes_middle_eps = 0.0; // its first leg passes h0 / 2 (a front from the top: the
-                                  // material below it is at rest), else first_leg_end [strain]
+  double passes_middle_eps = 0.0; // a front from the top: its first leg passes h0 / 2 (the
+                                  // material below it is at rest), else first_leg_end; the
+                                  // rule reads it of fronts from the top only      [strain]
 };
 FrontTiming front_timing(const FrontTracks& tracks, const Front& front,
                          const FeatureSettings& s = {});
