@@ -16,7 +16,6 @@ validate() refuses at a resolution is listed with its reason.
 import argparse
 import os
 import shutil
-import subprocess
 import sys
 
 import numpy as np
@@ -61,13 +60,6 @@ def compacted_zone(out, s, eps, fronts):
     return float(jac[zone].sum() * v0 / ((hi - lo) * width)), float(jac[zone].min()), float(jac[zone].max())
 
 
-def refused(run_bin, flags):
-    """validate()'s reason when the runner refuses the scene, else None."""
-    cmd = runs.command(os.devnull, flags, run_bin) + ["--check"]
-    res = subprocess.run(cmd, capture_output=True, text=True)
-    return None if res.returncode == 0 else (res.stderr.strip().splitlines() or ["refused"])[-1]
-
-
 def fmt(v, digits=3):
     return "-" if v is None else "%.*g" % (digits, v)
 
@@ -91,7 +83,7 @@ def main():
     for c in cells:
         for x in settings:
             flags = dict(SCENE, cells_per_unit=c, pore_contact=x)
-            why = refused(run_bin, flags)
+            why = runs.refused(flags, run_bin)
             if why:
                 reasons[(c, x)] = why
             else:

@@ -17,11 +17,13 @@ RUN = os.path.join(ROOT, "build", "bin", "compaction-run")
 CLASSIFY = os.path.join(ROOT, "build", "bin", "compaction-classify")
 
 
+def flag_args(flags):
+    """A scene's flags as the runner's command-line arguments."""
+    return [arg for k, v in flags.items() for arg in ("--" + k.replace("_", "-"), str(v))]
+
+
 def command(out, flags, run=RUN):
-    cmd = [run, "--progress", "none", "--threads", "1", "--out", out]
-    for k, v in flags.items():
-        cmd += ["--" + k.replace("_", "-"), str(v)]
-    return cmd
+    return [run, "--progress", "none", "--threads", "1", "--out", out] + flag_args(flags)
 
 
 def finished(out):
@@ -42,16 +44,19 @@ def run_one(work, name, flags, run=RUN):
     return out
 
 
+def refused(flags, run=RUN):
+    """The runner's reason when it refuses the scene (`--check`, its validate()), else None."""
+    res = subprocess.run([run, "--check"] + flag_args(flags), capture_output=True, text=True)
+    return None if res.returncode == 0 else (res.stderr.strip().splitlines() or ["refused"])[-1]
+
+
 def check_all(scenes, run=RUN):
-    """Asks the runner to validate every scene (`--check`) before any runs: a flag out of range
-    exits naming the scene and the runner's own message, not an hour later."""
+    """Asks the runner to validate every scene before any runs: a flag out of range exits naming
+    the scene and the runner's own message, not an hour later."""
     for name, flags in scenes.items():
-        cmd = [run, "--check"]
-        for k, v in flags.items():
-            cmd += ["--" + k.replace("_", "-"), str(v)]
-        res = subprocess.run(cmd, capture_output=True, text=True)
-        if res.returncode != 0:
-            sys.exit("%s: %s" % (name, res.stderr.strip() or "refused (exit %d)" % res.returncode))
+        reason = refused(flags, run)
+        if reason is not None:
+            sys.exit("%s: %s" % (name, reason))
 
 
 def run_all(work, scenes, jobs=1, run=RUN):
@@ -101,8 +106,14 @@ def reading(out, classify_bin=CLASSIFY):
     s = summary(out)
     c = classify(out, classify_bin)
     f = c.get("features") or {}
-    return {"label": c.get("class") or "none", "confidence": c.get("confidence"),
-            "n_r": c.get("n_reflections"), "fit": f.get("band_speed_ratio"),
-            "fit_err": f.get("band_speed_error"), "transit": f.get("band_speed_transit"),
-            "transit_err": f.get("band_speed_transit_error"), "wall": s["wall_seconds"],
-            "status": s["status"], "summary": s, "features": f}
+    return dict(band_speeds(f), label=c.get("class") or "none", confidence=c.get("confidence"),
+                n_r=c.get("n_reflections"), wall=s["wall_seconds"], status=s["status"],
+                summary=s, features=f)
+
+
+def band_speeds(features):
+    """Both readings of c_b/V with their uncertainties (docs/classifier.md) from a
+    classification's features: fit, fit_err, transit, transit_err (None where absent)."""
+    f = features or {}
+    return {"fit": f.get("band_speed_ratio"), "fit_err": f.get("band_speed_error"),
+            "transit": f.get("band_speed_transit"), "transit_err": f.get("band_speed_transit_error")}

@@ -5,8 +5,9 @@ rests on, read from the runs' bundles.
 The classifier calls a run two-sided (`two_sided`, the one feature that makes (c)) when a front
 from the bottom plate starts while the top band is on its first leg; since 0988e4f it must also
 start before the top band has passed the middle of the sample (engine/classify, features.cpp),
-and runs stored before then were two-sided by the first condition alone. The paper's (c) is "crossing bands emerging from the two ends"; its example has
-the bottom band start at eps ~ 0.05 and the two meet at mid-height. This lists, for every run
+and runs stored before then were two-sided by the first condition alone. The paper's (c) is
+"crossing bands emerging from the two ends"; its example has the bottom band start at
+eps ~ 0.05 and the two meet at mid-height. This lists, for every run
 of the given sweeps whose stored features say two-sided and whose bundle is on this machine,
 the bottom front that made it so: when it starts, how far it travels, and when the top band
 passes mid-height, so a reader sees which (c) are bands emerging from both ends and which are a

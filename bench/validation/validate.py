@@ -160,20 +160,15 @@ def row(expected, r):
             f"{r['wall']:.1f} | {r['geometry']} {r['cells']}/cell, eps {r['eps_end']:g} |")
 
 
-# The classifier's two readings of c_b/V, each with its uncertainty (docs/classifier.md).
-READINGS = (("band_speed_ratio", "fit"), ("band_speed_transit", "transit"))
-
-
-def reading_gap(r2, r1, key, name):
-    """One reading of c_b/V in full 2D against pseudo-1D: both values with their uncertainty and
-    the relative difference."""
-    f2, f1 = r2["cls"]["features"], r1["cls"]["features"]
-    v2, v1 = f2.get(key), f1.get(key)
-    err = "band_speed_error" if key == "band_speed_ratio" else "band_speed_transit_error"
+def reading_gap(r2, r1, name):
+    """One reading of c_b/V ("fit" or "transit", runs.band_speeds) in full 2D against pseudo-1D:
+    both values with their uncertainty and the relative difference."""
+    b2, b1 = runs.band_speeds(r2["cls"]["features"]), runs.band_speeds(r1["cls"]["features"])
+    v2, v1 = b2[name], b1[name]
     if not v1 or not v2:
         return f"{name} -"
-    return (f"{name} {fmt(v2)} +- {fmt(f2.get(err), 2)} against {fmt(v1)} +- {fmt(f1.get(err), 2)}, "
-            f"{100 * (v2 / v1 - 1):+.1f} %")
+    return (f"{name} {fmt(v2)} +- {fmt(b2[name + '_err'], 2)} against {fmt(v1)} +- "
+            f"{fmt(b1[name + '_err'], 2)}, {100 * (v2 / v1 - 1):+.1f} %")
 
 
 HEADER = ("| expected | found | match | confidence | runner-up | N_r | c_b/V | 1/(1-phi) | "
@@ -321,7 +316,7 @@ def main():
                 same = r2["cls"]["class"] == r1["cls"]["class"]
                 gaps.append(f"({k}): full 2D labelled {r2['cls']['class']}, pseudo-1D {r1['cls']['class']} "
                             f"({'same' if same else '**different**'}); c_b/V full 2D against pseudo-1D: "
-                            + "; ".join(reading_gap(r2, r1, key, name) for key, name in READINGS))
+                            + "; ".join(reading_gap(r2, r1, name) for name in ("fit", "transit")))
                 maps.append(f"**({k})** full 2D ![{k} full 2D]({copy_map(args, r2, f'{k}_2d_{c2}{suffix}')}) "
                             f"pseudo-1D ![{k} pseudo-1D]({copy_map(args, r1, f'{k}_p1d_{c2}{suffix}')})")
             md += [""] + [f"- {g}" for g in gaps] + ["", "Space-time maps (height up, eps to the right):", ""]
