@@ -26,7 +26,8 @@ Errors against the reference:
 Cost is modelled as particle-steps (deterministic) times the ns per particle-step of the transfer
 and gradient on a quiet core (NS_QUIET, from bench/results/engine_bench.md); the measured wall
 time is listed too. A run is on the Pareto front when no other run of its point is
-both cheaper and has a smaller largest error. Writes docs/accuracy.md (tables, the commands) and
+both cheaper and has a smaller largest error. Writes docs/accuracy.md (tables, the commands; its
+text below the notes marker, the reading written by hand, is kept: bench/lib/kept_notes.py) and
 docs/accuracy/pareto.png (error against cost per point).
 """
 import argparse
@@ -37,6 +38,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import kept_notes  # noqa: E402
 import runs  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference"))
@@ -277,12 +279,10 @@ def main():
     except ImportError:
         pass
 
-    notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
-    if os.path.exists(notes):
-        md += [open(notes).read(), ""]
     os.makedirs(os.path.dirname(args.report), exist_ok=True)
+    notes = kept_notes.below_marker(args.report)  # the reading of the tables, written by hand
     with open(args.report, "w") as f:
-        f.write("\n".join(md))
+        f.write("\n".join(md) + "\n" + notes)
     print("wrote", args.report, file=sys.stderr)
 
 

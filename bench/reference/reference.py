@@ -13,7 +13,7 @@ usage: bench/reference/reference.py [--cells 20,30,40,60,80] [--examples a,b] [-
   --summarise-only   make no run, only summarise the bundles that exist
 A level whose bundle is not in --runs keeps its row of the existing --out (a run made on an
 earlier machine: bench/lib/kept_rows.py), read back into the summary. The text below the notes
-marker of an existing docs/reference.md is kept.
+marker of an existing docs/reference.md is kept (bench/lib/kept_notes.py).
 Cost: CPU seconds grow as (cells)^3; on this machine 40 cells takes about 490 s of CPU per run,
 60 cells about 3.4 times that, 80 cells about 8 times.
 """
@@ -28,6 +28,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import kept_notes  # noqa: E402
 import kept_rows  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -284,15 +285,9 @@ def main():
         lines += ["%d of the levels above are kept from the report as it was: their runs were made "
                   "on an earlier machine, whose bundles are not in --runs." % kept, ""]
     lines += [LEVELS_MARK + json.dumps(all_levels, allow_nan=True) + " -->", ""]
-    # What people wrote below the marker (the reading of the numbers) is kept.
-    marker = "<!-- notes: kept when the tables are made again -->"
-    notes = ""
-    if os.path.exists(a.out):
-        old = open(a.out).read()
-        if marker in old:
-            notes = old[old.index(marker):]
+    notes = kept_notes.below_marker(a.out)  # the reading of the numbers, written by hand
     with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n" + (notes or marker + "\n"))
+        f.write("\n".join(lines) + "\n" + notes)
     print("\n".join(lines))
 
 

@@ -67,11 +67,12 @@ def report(a, examples, seeds, classify_bin):
     cells_per_unit = a.cells_per_strut / (1 - (1 - PHI) ** 0.5)
     lines = ["# Random structures against the regular one (phi = 0.4, %g cells across the strut)"
              % a.cells_per_strut, "",
-             "Made by `bench/validation/random_structures.py %s`. The six examples of the paper, "
+             "Made by `bench/validation/random_structures.py %s`. The paper's examples %s, "
              "pseudo-1D (34 voids), to full density (eps = 0.6), %g cells across the regular "
              "strut (%.0f cells per unit cell) and one velocity field (the runner's default "
-             "contact; the `default` preset has this grid and two fields, the `reference` preset "
-             "twice the cells), one thread per run. Random structures: each void's area uniform in (1 -+ 0.3) x L^2 (1 - phi) "
+             "contact; the service's `default` and `reference` presets run two fields on the "
+             "regular structure: docs/service.md, GET /presets), one thread per run. Random "
+             "structures: each void's area uniform in (1 -+ 0.3) x L^2 (1 - phi) "
              "in antithetic pairs, its centre moved uniformly within the room that keeps half the "
              "thinnest strut (half the regular strut) to its cell's edges (docs/engine.md, "
              "\"Random structures\"). phi realised: the particles' solid fraction "
@@ -81,7 +82,8 @@ def report(a, examples, seeds, classify_bin):
              "reading over the regular structure's; primary front from: where the primary front "
              "starts (the strongest propagating front from the top plate, else the strongest; "
              "top, bottom or interior: primary_origin of the features, docs/classifier.md)."
-             % (" ".join(sys.argv[1:]), a.cells_per_strut, cells_per_unit), "",
+             % (" ".join(sys.argv[1:]), ", ".join("(%s)" % e for e in examples), a.cells_per_strut,
+                cells_per_unit), "",
              "| example | structure | phi realised | label (confidence) | N_r | primary front from | c_b/V fit | c_b/V transit | transit against regular | wall [s] |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     same_label = same_speed = compared = speeds = 0

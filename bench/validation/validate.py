@@ -6,7 +6,8 @@ Runs (results cached under --work; a cached bundle is not computed again):
   fig3        a line of >= 5 points through class (b): c_b/V and N_r vs q_y/(rho V^2) = R/S^2
   full2d      examples (a) and (b) in full 2D (17 x 34 cells) against pseudo-1D, to eps = 0.2
   resolution  the six examples at several resolutions
-and writes docs/validation.md with the space-time maps copied to docs/validation/.
+and writes docs/validation.md with the space-time maps copied to docs/validation/; the report's
+text below the notes marker (what the runs show, written by hand) is kept (bench/lib/kept_notes.py).
 
   bench/validation/validate.py --jobs 2 --resolutions 8,12,20,30 --fig3-cells 20,30 --full2d-cells 12,20
 
@@ -23,6 +24,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import kept_notes  # noqa: E402
 import runs  # noqa: E402
 import examples  # noqa: E402
 
@@ -189,8 +191,6 @@ def main():
     ap.add_argument("--pore-contact", default="single_field",
                     choices=("single_field", "split_fields", "auto"),
                     help="pore_contact of every run (docs/engine.md, Pore contact) [single_field]")
-    ap.add_argument("--no-notes", action="store_true",
-                    help="leave out notes.md (its findings are those of the one-field runs)")
     ap.add_argument("--work", default="/tmp/compaction-validation")
     ap.add_argument("--jobs", type=int, default=1, help="runs at a time (each on one thread)")
     ap.add_argument("--run", default=os.path.join(ROOT, "build", "bin", "compaction-run"))
@@ -322,12 +322,10 @@ def main():
             md += [""] + [f"- {g}" for g in gaps] + ["", "Space-time maps (height up, eps to the right):", ""]
             md += [m + "\n" for m in maps]
 
-    notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
-    if os.path.exists(notes) and not args.no_notes:  # what was found, written by hand for the measured resolution
-        md += [open(notes).read(), ""]
     md += [f"Total wall time of this report's runs (new and cached): {time.time() - t0:.0f} s of this invocation.", ""]
+    notes = kept_notes.below_marker(args.report)  # what the runs show, written by hand
     with open(args.report, "w") as f:
-        f.write("\n".join(md))
+        f.write("\n".join(md) + "\n" + notes)
     print("wrote", args.report, file=sys.stderr)
 
 

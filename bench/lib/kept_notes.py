@@ -1,0 +1,19 @@
+"""The hand-written part of a generated report, kept when its tables are made again.
+
+A study's script writes the report's tables from its runs; what people wrote about the numbers
+goes below MARKER, and the script carries it over, as it was, into the report it writes next.
+"""
+import os
+
+MARKER = "<!-- notes: kept when the tables are made again -->"
+
+
+def below_marker(path):
+    """The text of file `path` from MARKER on (the marker included); the marker alone, with its
+    newline, when the file or its marker is missing."""
+    if os.path.exists(path):
+        with open(path) as f:
+            old = f.read()
+        if MARKER in old:
+            return old[old.index(MARKER):]
+    return MARKER + "\n"
