@@ -280,9 +280,7 @@ def main():
         pass
 
     os.makedirs(os.path.dirname(args.report), exist_ok=True)
-    notes = kept_notes.below_marker(args.report)  # the reading of the tables, written by hand
-    with open(args.report, "w") as f:
-        f.write("\n".join(md) + "\n" + notes)
+    kept_notes.write(args.report, "\n".join(md))  # and the reading of the tables, written by hand
     print("wrote", args.report, file=sys.stderr)
 
 

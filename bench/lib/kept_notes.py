@@ -17,3 +17,11 @@ def below_marker(path):
         if MARKER in old:
             return old[old.index(MARKER):]
     return MARKER + "\n"
+
+
+def write(path, text):
+    """Write the report `path`: `text` (the tables made now), a newline, then what the report
+    there now holds from MARKER on (below_marker)."""
+    notes = below_marker(path)
+    with open(path, "w") as f:
+        f.write(text + "\n" + notes)

@@ -285,9 +285,7 @@ def main():
         lines += ["%d of the levels above are kept from the report as it was: their runs were made "
                   "on an earlier machine, whose bundles are not in --runs." % kept, ""]
     lines += [LEVELS_MARK + json.dumps(all_levels, allow_nan=True) + " -->", ""]
-    notes = kept_notes.below_marker(a.out)  # the reading of the numbers, written by hand
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n" + notes)
+    kept_notes.write(a.out, "\n".join(lines))  # and the reading of the numbers, written by hand
     print("\n".join(lines))
 
 

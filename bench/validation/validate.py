@@ -323,9 +323,7 @@ def main():
             md += [m + "\n" for m in maps]
 
     md += [f"Total wall time of this report's runs (new and cached): {time.time() - t0:.0f} s of this invocation.", ""]
-    notes = kept_notes.below_marker(args.report)  # what the runs show, written by hand
-    with open(args.report, "w") as f:
-        f.write("\n".join(md) + "\n" + notes)
+    kept_notes.write(args.report, "\n".join(md))  # and what the runs show, written by hand
     print("wrote", args.report, file=sys.stderr)
 
 
