@@ -5,7 +5,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { Harness, artifactsDir, waitFor } from './lib/harness.mjs';
+import { Harness, artifactsDir, canvasBox, waitFor } from './lib/harness.mjs';
 
 const point = (job_id, extra) => ({
   S: 0.03, R: 1e-3, phi: 0.4, state: 'succeeded', class: null, confidence: 0.9, runner_up: null, n_reflections: 0,
@@ -115,7 +115,7 @@ test('the band-speed page plots bands only, with an error bar per band, and says
 
     // Hover: both readings with their uncertainties.
     const one = fit.plotted.find((q) => q.job_id === 1);
-    const box = await page.locator('#bands-plot canvas').boundingBox();
+    const box = await canvasBox(page, '#bands-plot canvas');
     await page.mouse.move(box.x + one.x, box.y + one.y);
     await page.locator('#tooltip:not([hidden])').waitFor();
     const tip = await page.locator('#tooltip').innerText();

@@ -6,7 +6,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { Harness, artifactsDir, waitFor } from './lib/harness.mjs';
+import { Harness, artifactsDir, canvasBox, waitFor } from './lib/harness.mjs';
 
 // Tiny runs (about 0.1 s each): pseudo-1D, 5 cells per unit cell, to eps = 0.04.
 const TINY = { cpu: '5', epsEnd: '0.04', snapshots: '0.02' };
@@ -124,7 +124,7 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
 
     // --- Hover shows the run's numbers; click opens it.
     const target = (await mapState(page)).points[0];
-    const box = await page.locator('#map-plot canvas').boundingBox();
+    const box = await canvasBox(page, '#map-plot canvas');
     await page.mouse.move(box.x + target.x, box.y + target.y);
     await page.locator('#tooltip:not([hidden])').waitFor();
     const tip = await page.locator('#tooltip').innerText();

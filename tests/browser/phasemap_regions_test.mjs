@@ -10,7 +10,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { Harness, artifactsDir, waitFor, WEB_DIR } from './lib/harness.mjs';
+import { Harness, artifactsDir, canvasBox, waitFor, WEB_DIR } from './lib/harness.mjs';
 import { fillMap, PHI, DOUBTFUL, UNCLASSIFIED, TWIN } from './lib/mapfill.mjs';
 
 const { cellColor } = await import(join(WEB_DIR, 'js', 'regions.js'));
@@ -146,7 +146,7 @@ test('the phase map draws the predicted regions under its markers and exports SV
     assert.equal(un.ring, 'f');
     const ringPix = await pixel(page, un.x + st.radius + 1.6, un.y);
     assert.ok(close(ringPix, hexRgb(CLASSES.f.color), 40), `ring drawn ${ringPix}`);
-    const box = await page.locator('#map-plot canvas').boundingBox();
+    const box = await canvasBox(page, '#map-plot canvas');
     await page.mouse.move(box.x + un.x, box.y + un.y);
     await page.locator('#tooltip:not([hidden])').waitFor();
     const tip = await page.locator('#tooltip').innerText();

@@ -8,7 +8,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { Harness, artifactsDir, waitFor } from './lib/harness.mjs';
+import { Harness, artifactsDir, canvasBox, waitFor } from './lib/harness.mjs';
 
 async function shot(page, name) {
   const path = join(artifactsDir(), `${name}.png`);
@@ -70,7 +70,7 @@ test('a relabel through the run page shows on the map and in the audit', { timeo
       return Array.from(c.getContext('2d').getImageData(Math.round(x * dpr), Math.round(y * dpr), 1, 1).data.slice(0, 3));
     }, p);
     assert.ok(centre.every((v) => v < 40), `the mark is black at the centre: ${centre}`);
-    const box = await waitFor(() => page.locator('#map-plot canvas').first().boundingBox(), { what: 'the canvas box' });
+    const box = await canvasBox(page, '#map-plot canvas');
     await page.mouse.move(box.x + p.x, box.y + p.y);
     await waitFor(async () => /set by a person/.test(await page.locator('#tooltip').innerText()), { what: 'the tooltip' });
     assert.match(await page.locator('#tooltip').innerText(), /classifier/);

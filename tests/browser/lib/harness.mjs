@@ -49,6 +49,11 @@ export async function waitFor(fn, { timeoutMs = 10000, intervalMs = 100, what = 
   }
 }
 
+// The page box of a canvas the page may be redrawing. A redraw replaces the canvas, and a box
+// asked for while the old one is gone is null, so ask until one is laid out.
+export const canvasBox = (page, selector) =>
+  waitFor(() => page.locator(selector).first().boundingBox(), { what: `the box of ${selector}` });
+
 export class Harness {
   constructor(name) {
     this.dir = mkdtempSync(join(tmpdir(), `compaction-browser-${name}-`));
