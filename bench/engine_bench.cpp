@@ -7,6 +7,8 @@
 // it with bench/run_engine_bench.sh.
 #include <benchmark/benchmark.h>
 
+#include <string>
+
 #include "compaction/simulation.hpp"
 
 namespace {
@@ -21,8 +23,7 @@ compaction::SceneParams reference_scene() {
 }
 
 void report(benchmark::State& state, const compaction::RunResult& r) {
-  state.SetLabel(compaction::simd_copy() == compaction::SimdCopy::avx2 ? "avx2 copy"
-                                                                       : "baseline copy");
+  state.SetLabel(std::string(compaction::simd_copy_name(compaction::simd_copy())) + " copy");
   const double per = 1e9 / (static_cast<double>(r.steps) * r.n_particles);
   state.counters["ns_per_particle_step"] = r.ns_per_particle_step;
   state.counters["p2g_ns"] = r.stage_seconds.p2g * per;
@@ -64,12 +65,21 @@ void BM_ReferenceScene_ApicSplitFields_1Thread(benchmark::State& state) {
   run(state, p);
 }
 
-// The same scene on the hot loops' baseline (SSE2) copy, as a processor without AVX2 runs it;
-// the other variants run the AVX2 copy where the processor has it (engine/src/simd_dispatch.hpp).
-void BM_ReferenceScene_Apic_1Thread_BaselineCopy(benchmark::State& state) {
-  compaction::use_simd_copy(compaction::SimdCopy::baseline);
+// The same scene on the narrower copies of the hot loops, as a processor without AVX-512 (the
+// AVX2 copy) or without AVX2 (the baseline SSE2 copy) runs it; the other variants run the widest
+// copy that the processor has (engine/src/simd_dispatch.hpp).
+void run_on_copy(benchmark::State& state, compaction::SimdCopy copy) {
+  compaction::use_simd_copy(copy);
   run(state, reference_scene());
-  compaction::use_simd_copy(compaction::SimdCopy::avx2);
+  compaction::use_simd_copy(compaction::SimdCopy::avx512);
+}
+
+void BM_ReferenceScene_Apic_1Thread_Avx2Copy(benchmark::State& state) {
+  run_on_copy(state, compaction::SimdCopy::avx2);
+}
+
+void BM_ReferenceScene_Apic_1Thread_BaselineCopy(benchmark::State& state) {
+  run_on_copy(state, compaction::SimdCopy::baseline);
 }
 
 void BM_ReferenceScene_Apic_2Threads(benchmark::State& state) {
@@ -120,6 +130,7 @@ BENCHMARK(BM_ReferenceScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterat
 BENCHMARK(BM_ReferenceScene_PicFlip_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_ApicBspline_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_ApicSplitFields_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ReferenceScene_Apic_1Thread_Avx2Copy)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_1Thread_BaselineCopy)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ReferenceScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_LargeScene_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);

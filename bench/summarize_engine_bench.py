@@ -18,9 +18,10 @@ print("Reference scene: pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2 part
       "geometry pseudo1d_3d at 8 cells per unit cell, 2 x 2 x 2 particles per cell (64 566 "
       "particles), eps 0 -> 0.002 (317 steps). Medians of 5 repetitions.\n")
 print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, date {ctx.get('date')}. "
-      f"Engine built Release (-O3, x86-64 baseline, with an AVX2 copy of the particle loops that "
-      f"runs where the processor has AVX2; both copies give the same bits, engine/src/"
-      f"simd_dispatch.hpp); the Google Benchmark library itself is Debian's "
+      f"Engine built Release (-O3, x86-64 baseline, with an AVX2 and an AVX-512 copy of the "
+      f"particle loops, the widest that the processor has chosen at run time; all copies give "
+      f"the same bits, engine/src/simd_dispatch.hpp); the Google Benchmark library itself is "
+      f"Debian's "
       f"({ctx.get('library_build_type')} build), which only drives the timing loop.\n")
 print("Command: `bench/run_engine_bench.sh`\n")
 print("| variant | copy of the loops | ns / particle-step | P2G | grid update | G2P + plasticity | "

@@ -1,11 +1,13 @@
-// The two compiled copies of the hot particle loops (P2G, G2P): one for the x86-64 baseline
-// (SSE2) and one for AVX2, chosen at run time (run_avx2_copy()), and the four variants of each
-// (transfer scheme x gradient), chosen per scene.
+// The compiled copies of the hot particle loops (P2G, G2P): one for the x86-64 baseline (SSE2),
+// one for AVX2 and one for AVX-512 (eight doubles a vector), the widest that the processor has
+// chosen at run time (simd_copy()), and the four variants of each (transfer scheme x gradient),
+// chosen per scene.
 //
-// AVX2 only, not FMA: the vector instructions round each operation exactly as the scalar SSE2
-// ones do, and GCC neither reassociates (no -ffast-math) nor fuses a * b + c (strict
-// -std=c++20 means -ffp-contract=off), so both copies give the same result bits and a result
-// does not depend on the processor a worker runs on (tests/engine/simd_copies_gtest.cpp).
+// Same bits in every copy: each vector instruction rounds each operation exactly as the scalar
+// SSE2 one does, GCC does not reassociate (no -ffast-math), and no copy fuses a * b + c: the
+// AVX-512 copy has FMA instructions, and -ffp-contract=off (engine/CMakeLists.txt) keeps GCC
+// from contracting, which it does by default in C++ even under -std=c++20. So a result does
+// not depend on the processor a worker runs on (tests/engine/simd_copies_gtest.cpp).
 // A build for a processor with AVX2 (-march, COMPACTION_ARCH) or one without GCC's target
 // attribute has one copy.
 //
@@ -13,21 +15,26 @@
 //   template <bool kApic, bool kExact> struct Loop {
 //     template <bool kAvx2> [[gnu::always_inline]] static R run(...);
 //   };
-// (kAvx2: the copy being compiled targets AVX2) and calls run_loop<Loop>(transfer, gradient,
-// args...), which picks the variant and the copy: the loop is inlined once into a plain
-// function and once into a COMPACTION_AVX2 one.
+// (kAvx2: the copy being compiled has AVX2's four-double vectors, as the AVX-512 copy does too)
+// and calls run_loop<Loop>(transfer, gradient, args...), which picks the variant and the copy:
+// the loop is inlined once into a plain function and once into each wide one.
 #pragma once
 
 #include <type_traits>
 
 #include "compaction/params.hpp"
+#include "compaction/simd_copy.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX2__)
-#define COMPACTION_HAS_AVX2_COPY 1
+#define COMPACTION_HAS_WIDE_COPIES 1
 #define COMPACTION_AVX2 __attribute__((target("avx2")))
+// 512-bit vectors where the loop allows (GCC's default tuning would keep 256 bits).
+#define COMPACTION_AVX512 \
+  __attribute__((target("avx2,avx512f,avx512vl,avx512dq,prefer-vector-width=512")))
 #else
-#define COMPACTION_HAS_AVX2_COPY 0
+#define COMPACTION_HAS_WIDE_COPIES 0
 #define COMPACTION_AVX2
+#define COMPACTION_AVX512
 #endif
 
 namespace compaction {
@@ -38,10 +45,6 @@ inline constexpr bool kCompiledForAvx2 = true;
 #else
 inline constexpr bool kCompiledForAvx2 = false;
 #endif
-
-// True when the stages should run their AVX2 copy: the build has one, the processor has AVX2
-// and use_simd_copy(SimdCopy::baseline) has not been called.
-bool run_avx2_copy();
 
 namespace simd_copies {
 
@@ -56,17 +59,26 @@ auto baseline(Args... args) {
   return Loop::template run<kCompiledForAvx2>(args...);
 }
 
-#if COMPACTION_HAS_AVX2_COPY
+#if COMPACTION_HAS_WIDE_COPIES
 template <class Loop, class... Args>
 COMPACTION_AVX2 auto avx2(Args... args) {
+  return Loop::template run<true>(args...);
+}
+
+template <class Loop, class... Args>
+COMPACTION_AVX512 auto avx512(Args... args) {
   return Loop::template run<true>(args...);
 }
 #endif
 
 template <class Loop, class... Args>
 auto either(Args... args) {
-#if COMPACTION_HAS_AVX2_COPY
-  if (run_avx2_copy()) return avx2<Loop, Args...>(args...);
+#if COMPACTION_HAS_WIDE_COPIES
+  switch (simd_copy()) {
+    case SimdCopy::avx512: return avx512<Loop, Args...>(args...);
+    case SimdCopy::avx2: return avx2<Loop, Args...>(args...);
+    case SimdCopy::baseline: break;
+  }
 #endif
   return baseline<Loop, Args...>(args...);
 }

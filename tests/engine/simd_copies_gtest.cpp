@@ -1,6 +1,6 @@
-// The hot loops' AVX2 copy gives the same result bits as their baseline copy
+// The hot loops' AVX2 and AVX-512 copies give the same result bits as their baseline copy
 // (engine/src/simd_dispatch.hpp), so that a result does not depend on the processor a worker
-// runs on. Small scenes that reach every variant of both loops: APIC and PIC/FLIP, MLS and
+// runs on. A copy that this processor cannot run is skipped. Small scenes that reach every variant of both loops: APIC and PIC/FLIP, MLS and
 // B-spline gradients, plastic particles and particles whose large elastic strains (R = 0.1) need
 // the return mapping's long series, pseudo-1D and full 2D, one and two threads.
 #include <gtest/gtest.h>
@@ -43,7 +43,7 @@ void expect_same_bits(const RunResult& a, const RunResult& b) {
 
 class SimdCopiesGtest : public testing::TestWithParam<std::string> {
  protected:
-  void TearDown() override { use_simd_copy(SimdCopy::avx2); }
+  void TearDown() override { use_simd_copy(SimdCopy::avx512); }
 };
 
 SceneParams case_params(const std::string& name) {
@@ -65,10 +65,13 @@ SceneParams case_params(const std::string& name) {
   return p;
 }
 
-TEST_P(SimdCopiesGtest, Avx2CopyGivesTheBaselineBits) {
-  use_simd_copy(SimdCopy::avx2);
-  if (simd_copy() != SimdCopy::avx2) GTEST_SKIP() << "no AVX2 copy on this build or processor";
-  const SceneParams p = case_params(GetParam());
+// The scene on the given wide copy and on the baseline copy, bit for bit.
+void expect_baseline_bits(SimdCopy wide_copy, const std::string& scene) {
+  use_simd_copy(wide_copy);
+  if (simd_copy() != wide_copy) {
+    GTEST_SKIP() << "no " << simd_copy_name(wide_copy) << " copy on this build or processor";
+  }
+  const SceneParams p = case_params(scene);
   const RunResult wide = run_scene(p);
   use_simd_copy(SimdCopy::baseline);
   ASSERT_EQ(simd_copy(), SimdCopy::baseline);
@@ -76,6 +79,14 @@ TEST_P(SimdCopiesGtest, Avx2CopyGivesTheBaselineBits) {
   ASSERT_EQ(wide.status, RunStatus::ok) << wide.reason;
   ASSERT_EQ(base.status, RunStatus::ok) << base.reason;
   expect_same_bits(wide, base);
+}
+
+TEST_P(SimdCopiesGtest, Avx2CopyGivesTheBaselineBits) {
+  expect_baseline_bits(SimdCopy::avx2, GetParam());
+}
+
+TEST_P(SimdCopiesGtest, Avx512CopyGivesTheBaselineBits) {
+  expect_baseline_bits(SimdCopy::avx512, GetParam());
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SimdCopiesGtest,
