@@ -52,7 +52,9 @@ TEST(FrontTracker, AStraightFrontsFittedAndTransitSpeedsAgreeWithinTheirUncertai
   EXPECT_GT(f.speed_error, 0.0);
   EXPECT_LT(f.speed_error, 0.01 * c);   // a straight edge scatters by its rows only
   EXPECT_GT(f.transit_error, 0.0);
-  EXPECT_LT(f.transit_error, 0.02 * c);  // a row and half a frame over about 0.4 h0
+  // a row, a unit cell's step (sd 1/34 h0 / sqrt(12)) and half a frame at each end of a travel
+  // of about 0.8 h0 over 0.4 of strain: 1.7 %
+  EXPECT_LT(f.transit_error, 0.02 * c);
   EXPECT_LE(std::abs(f.speed - c), 3 * f.speed_error + 0.005 * c);  // + the edge's quantisation
   EXPECT_LE(std::abs(f.transit_speed - c), 3 * f.transit_error);
   const Features F = features_of(run, track(run));

@@ -198,8 +198,12 @@ void fit_speed(Front& fr, const Scales& k, double frame_eps, const TrackerSettin
   fr.speed_error = fit.slope_standard_error();
   const double travel = down ? y_first - y_last : y_last - y_first, strain = eps_last - eps_first;
   fr.transit_speed = travel / strain;
-  // Each end is known to one row in height and half a frame in strain.
-  const double dy = std::sqrt(2.0) * k.row, de = std::sqrt(2.0) * 0.5 * frame_eps;
+  // Each end is known to one row in height and half a frame in strain, and in a structured
+  // column it lies anywhere on a step of the edge: the edge stands while a row of pores closes
+  // and then moves on by a unit cell, so an end sits up to a cell off the leg's mean line
+  // (standard deviation cell / sqrt(12)).
+  const double dy_end = std::hypot(k.row, k.cell / std::sqrt(12.0));
+  const double dy = std::sqrt(2.0) * dy_end, de = std::sqrt(2.0) * 0.5 * frame_eps;
   fr.transit_error = std::abs(fr.transit_speed) * std::hypot(dy / travel, de / strain);
 }
 

@@ -19,7 +19,7 @@ export const BAND_CLASSES = ['a', 'b'];
 // The two readings of c_b/V the classifier gives (docs/classifier.md), each with its uncertainty.
 export const READINGS = {
   fit: { value: 'band_speed_ratio', error: 'band_speed_error', name: 'least-squares fit', note: 'slope of the leading edge, ± its standard error' },
-  transit: { value: 'band_speed_transit', error: 'band_speed_transit_error', name: 'transit', note: 'travel over strain between the first and last points of the leg, ± one row at each end' },
+  transit: { value: 'band_speed_transit', error: 'band_speed_transit_error', name: 'transit', note: 'travel over strain between the first and last points of the leg, each end ± a row and the edge\'s step of a unit cell' },
 };
 
 // Why a run at this phi is not on the plot, in the order the page lists them.

@@ -56,7 +56,7 @@ struct Features {
   double band_speed_error = 0.0;     // standard error of band_speed_ratio (the fit's scatter)
   double band_speed_transit = 0.0;   // c_b / V of the same leg as its mean speed: travel /
                                      // strain between its first and last points (NaN: none)
-  double band_speed_transit_error = 0.0;  // its uncertainty from the map's resolution
+  double band_speed_transit_error = 0.0;  // its uncertainty (fronts.hpp, Front::transit_error)
   int band_turns = 0;                // all turns of the band in the velocity map, at a plate or
                                      // not (a reflection is a turn within turn_travel of a plate)
   double bottom_speed_ratio = 0.0;   // c / V of the strongest bottom front (NaN: none)

@@ -58,8 +58,9 @@ struct Front {
   double transit_speed = 0.0;          // the same leg's mean speed: the edge's travel between
                                        // the first and last points of the fit / the strain
                                        // it took (NaN if too few points)                 [-]
-  double transit_error = 0.0;          // its uncertainty from the map's resolution: each end
-                                       // known to a row and half a frame                 [-]
+  double transit_error = 0.0;          // its uncertainty: each end known to a row, to the
+                                       // edge's step of a unit cell (sd cell / sqrt(12))
+                                       // and to half a frame                             [-]
   bool propagating = false;            // travel >= min_travel
   double start_eps() const { return path.front().eps; }
   double end_eps() const { return path.back().eps; }
