@@ -35,6 +35,28 @@ print("none" if not fr else "bad" if bad else "no onset" if not any(f["at_onset"
 PY
 )
 check "--fronts gives each front's onset and first leg ($timing)" test "$timing" = ok
+# The primary front is the one the features read, and its leading-edge points give both of its
+# speed readings again: the least-squares slope, and the travel between the first and the last.
+edge=$(python3 - "$out/fronts.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+prim = [f for f in d["fronts"] if f["primary"]]
+feat = d["features"]
+if len(prim) != 1 or prim[0]["speed_over_V"] != feat["band_speed_ratio"] \
+        or prim[0]["transit_speed_over_V"] != feat["band_speed_transit"]:
+    print("primary front does not match the features"); sys.exit()
+pts = prim[0]["leg_edge"]
+e, y = [p[0] for p in pts], [p[1] for p in pts]
+n, me, my = len(e), sum(e) / len(e), sum(y) / len(y)
+slope = sum((a - me) * (b - my) for a, b in zip(e, y)) / sum((a - me) ** 2 for a in e)
+transit = abs(y[-1] - y[0]) / (e[-1] - e[0])
+ok = all(a < b for a, b in zip(e, e[1:])) and 0 < d["unit_cell_h0"] < 1 \
+    and abs(abs(slope) - prim[0]["speed_over_V"]) < 1e-9 * abs(slope) \
+    and abs(transit - prim[0]["transit_speed_over_V"]) < 1e-12 * transit
+print("ok" if ok else f"slope {slope} transit {transit} against {prim[0]}")
+PY
+)
+check "--fronts gives the primary front's leading-edge points ($edge)" test "$edge" = ok
 
 "$classify" "$out/b" --features "$out/b/summary.json" 2> "$out/err"; rc=$?
 check "both inputs exit 2" test $rc -eq 2

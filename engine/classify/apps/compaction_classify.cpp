@@ -59,8 +59,9 @@ int main(int argc, char** argv) {
   cl.text("--features", features_file, "FILE",
           "decide from a run's stored features instead of a bundle (see below)", {},
           /*non_empty=*/true);
-  cl.flag("--fronts", fronts, "also print every propagating front (origin, start, end, speed, turns, and the\n"
-          "timing the two-sided rule reads)");
+  cl.flag("--fronts", fronts, "also print every propagating front (origin, start, end, both speed readings, turns,\n"
+          "the timing the two-sided rule reads, the leading-edge points the speeds use) and the unit\n"
+          "cell in h0");
   cl.flag("--compact", compact, "one line of JSON instead of indented");
   cl.notes(kNotes);
   if (const auto code = cl.parse(argc, argv)) return *code;
@@ -89,6 +90,8 @@ int main(int argc, char** argv) {
     out["status"] = to_string(b.result.status);
     if (fronts) {
       nlohmann::json list = nlohmann::json::array();
+      const classify::Front* primary = classify::primary_front(c.tracks);
+      const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
       for (const auto& fr : c.tracks.fronts) {
         if (!fr.propagating) continue;
         nlohmann::json turns = nlohmann::json::array();
@@ -102,12 +105,19 @@ int main(int argc, char** argv) {
                         {"passes_middle_eps", timing.passes_middle_eps},
                         {"start_height", fr.path.front().centroid},
                         {"end_height", fr.path.back().centroid},
-                        {"speed_over_V", std::isfinite(fr.speed) ? nlohmann::json(fr.speed) : nlohmann::json()},
+                        {"primary", &fr == primary},
+                        {"speed_over_V", number(fr.speed)},
+                        {"speed_error", number(fr.speed_error)},
+                        {"transit_speed_over_V", number(fr.transit_speed)},
+                        {"transit_error", number(fr.transit_error)},
+                        {"leg_edge", fr.leg_edge},
                         {"n_reflections", fr.n_reflections},
                         {"turns", turns},
                         {"share_of_activity", c.tracks.total_mass > 0 ? fr.mass() / c.tracks.total_mass : 0.0}});
       }
       out["fronts"] = list;
+      const classify::MapAxes axes = classify::map_axes(b.params, b.result);
+      out["unit_cell_h0"] = axes.unit_cell / axes.h0;
     }
     std::cout << (compact ? out.dump() : out.dump(2)) << '\n';
     return 0;

@@ -24,19 +24,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// The primary front: the strongest propagating front from the top plate, else the strongest
-// propagating front.
-const Front* primary_front(const FrontTracks& t) {
-  const Front* best = nullptr;
-  for (int pass = 0; pass < 2 && !best; ++pass) {
-    for (const auto& fr : t.fronts) {
-      if (!fr.propagating || (pass == 0 && fr.origin != Origin::top)) continue;
-      if (!best || fr.mass() > best->mass()) best = &fr;
-    }
-  }
-  return best;
-}
-
 // Strain at which a front leaves its first direction (its first turn, else its end).
 double first_leg_end(const Front& fr) {
   return fr.turns.empty() ? fr.end_eps() : fr.turns.front().eps;
@@ -253,6 +240,17 @@ void stress_features(const std::vector<Frame>& fr, double leg_end, double cell,
 }
 
 }  // namespace
+
+const Front* primary_front(const FrontTracks& t) {
+  const Front* best = nullptr;
+  for (int pass = 0; pass < 2 && !best; ++pass) {
+    for (const auto& fr : t.fronts) {
+      if (!fr.propagating || (pass == 0 && fr.origin != Origin::top)) continue;
+      if (!best || fr.mass() > best->mass()) best = &fr;
+    }
+  }
+  return best;
+}
 
 FrontTiming front_timing(const FrontTracks& tracks, const Front& front, const FeatureSettings& s) {
   return {at_onset(front, first_activity(tracks), s), first_leg_end(front), passes_middle(front)};

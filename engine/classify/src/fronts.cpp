@@ -179,6 +179,7 @@ void find_turns(Front& fr, const Scales& k) {
 void fit_speed(Front& fr, const Scales& k, double frame_eps, const TrackerSettings& s) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   fr.speed = fr.speed_error = fr.transit_speed = fr.transit_error = nan;
+  fr.leg_edge.clear();
   const auto& p = fr.path;
   const std::size_t last = fr.turns.empty() ? p.size() - 1 : fr.turns.front().index;
   const bool down = p[last].centroid < p.front().centroid;
@@ -189,6 +190,7 @@ void fit_speed(Front& fr, const Scales& k, double frame_eps, const TrackerSettin
     const double y = down ? p[i].lo : p[i].hi;
     if (y < k.margin || y > top_of(p[i].eps) - k.margin) continue;
     fit.add(p[i].eps, y);
+    fr.leg_edge.push_back({p[i].eps, y});
     if (fit.n == 1) eps_first = p[i].eps, y_first = y;
     eps_last = p[i].eps, y_last = y;
   }

@@ -79,6 +79,10 @@ struct FrontTiming {
 FrontTiming front_timing(const FrontTracks& tracks, const Front& front,
                          const FeatureSettings& s = {});
 
+// The primary front, whose speed and reflections the features report: the strongest
+// propagating front from the top plate, else the strongest propagating front (null: none).
+const Front* primary_front(const FrontTracks& t);
+
 // Axes of the run's space-time map (strain of each frame, h0, unit cell).
 MapAxes map_axes(const SceneParams& p, const RunResult& r);
 

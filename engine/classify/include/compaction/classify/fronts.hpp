@@ -9,6 +9,7 @@
 // first turn. Its thresholds are TrackerSettings (settings.hpp).
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "compaction/classify/settings.hpp"
@@ -61,6 +62,9 @@ struct Front {
   double transit_error = 0.0;          // its uncertainty: each end known to a row, to the
                                        // edge's step of a unit cell (sd cell / sqrt(12))
                                        // and to half a frame                             [-]
+  // The leading-edge points that both readings of the speed use, (eps, height [h0]) in time
+  // order: the leg before the first turn, away from the plates, without shared segments.
+  std::vector<std::array<double, 2>> leg_edge;
   bool propagating = false;            // travel >= min_travel
   double start_eps() const { return path.front().eps; }
   double end_eps() const { return path.back().eps; }
