@@ -57,13 +57,10 @@ def readings(points):
     return abs(slope), abs(y1 - y0) / (e1 - e0)
 
 
-def analyse(out, classify_bin, from_eps):
-    d = fronts(out, classify_bin)
-    prim = [f for f in d["fronts"] if f["primary"]]
-    if not prim or len(prim[0]["leg_edge"]) < 3:
-        return None
-    f, cell = prim[0], d["unit_cell_h0"]
-    pts = [tuple(p) for p in f["leg_edge"]]
+def edge_numbers(pts, cell, from_eps):
+    """The numbers of one leg from its leading-edge points [(eps, height / h0)] and the unit cell
+    (h0): both readings, the ends' offsets, the steps, both readings from from_eps on."""
+    fit, transit = readings(pts)
     down = pts[-1][1] < pts[0][1]
     behind = 1.0 if down else -1.0  # a point above a falling edge's line lags behind it
     slope, icpt = line(pts)
@@ -79,14 +76,24 @@ def analyse(out, classify_bin, from_eps):
     if run:
         steps.append(run)
     late_fit, late_transit = readings([p for p in pts if p[0] >= from_eps])
-    c = d.get("class") or "none"
-    return {"name": os.path.basename(os.path.normpath(out)), "label": c,
-            "fit": f["speed_over_V"], "transit": f["transit_speed_over_V"],
-            "transit_err": f["transit_error"], "window": (pts[0][0], pts[-1][0]), "n": len(pts),
+    return {"fit": fit, "transit": transit, "window": (pts[0][0], pts[-1][0]), "n": len(pts),
             "first": offset(pts[0]), "last": offset(pts[-1]),
             "standing": sum(m < STAND for m in moves) / len(moves),
             "step": statistics.mean(steps) if steps else float("nan"), "n_steps": len(steps),
             "late_fit": late_fit, "late_transit": late_transit}
+
+
+def analyse(out, classify_bin, from_eps):
+    d = fronts(out, classify_bin)
+    prim = [f for f in d["fronts"] if f["primary"]]
+    if not prim or len(prim[0]["leg_edge"]) < 3:
+        return None
+    f = prim[0]
+    r = edge_numbers([tuple(p) for p in f["leg_edge"]], d["unit_cell_h0"], from_eps)
+    # the classifier's own readings (the same numbers as edge_numbers' to round-off)
+    r.update(name=os.path.basename(os.path.normpath(out)), label=d.get("class") or "none",
+             fit=f["speed_over_V"], transit=f["transit_speed_over_V"], transit_err=f["transit_error"])
+    return r
 
 
 def level_of(name):
