@@ -7,19 +7,24 @@
 
 namespace compaction::server::cost {
 
-// One particle-step on one core, engine 0.2.1: 29 ns in pseudo-1D at 20 cells per unit cell
-// with two runs sharing the two cores of the reference machine (docs/savings.md; 27.4-28.6 ns
-// alone, bench/results/engine_bench.md). The default transfer (APIC) and gradient (MLS).
-inline constexpr double kNsPerParticleStep = 29.0;
+// One particle-step on one core of the reference machine for the default transfer (APIC) and
+// gradient (MLS), one velocity field, two runs sharing the two cores: 24.4 ns. Measured as the
+// two-field runs of the six examples at the default preset, 40.3 ns per particle-step (median;
+// 39.3-44.4), over kSplitFieldsFactor (bench/results/six_examples.md, 2026-12-05, the AVX-512
+// copy of the particle loops; 22.4 ns alone on quiet cores, bench/results/engine_bench.md).
+// A processor with AVX2 only takes about 1.18 times as long, one without AVX2 about 2.
+inline constexpr double kNsPerParticleStep = 24.4;
 // What the alternatives cost per particle-step, against the default, on one thread of a quiet
-// machine: engine_bench's reference scene, 35.7 against 28.6 ns for both (one run of
-// bench/run_engine_bench.sh, bench/results/engine_bench.md, 2026-12-05).
-inline constexpr double kPicFlipFactor = 1.25;
-inline constexpr double kBsplineFactor = 1.25;
+// machine: engine_bench's reference scene, 30.5 against 22.4 ns for both (one run of
+// bench/run_engine_bench.sh, bench/results/engine_bench.md, 2026-12-05, the AVX-512 copy;
+// 1.25 with the AVX2 copy).
+inline constexpr double kPicFlipFactor = 1.36;
+inline constexpr double kBsplineFactor = 1.36;
 // Two velocity fields across closing pores (pore_contact = split_fields): 1.65 times the
 // default per particle-step on one thread (median of four same-run pairs of engine_bench's
 // reference scene, 1.59-1.71, 2026-12-03, after the two-field transfers were vectorised; 2.03
-// before; 1.56 on the quiet machine of bench/results/engine_bench.md, 2026-12-05).
+// before; on quiet cores on 2026-12-05, 1.56 with the AVX2 copy, 1.69 with the AVX-512 copy,
+// bench/results/engine_bench.md).
 inline constexpr double kSplitFieldsFactor = 1.65;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
