@@ -10,7 +10,7 @@ import signal
 import subprocess
 import time
 
-from e2e_lib import Env, bin_dir_from_args, check, stop
+from e2e_lib import STOPPABLE, STOPPABLE_POINT, Env, bin_dir_from_args, check, stop
 
 # Wall times and what the run says of its own speed: the only outputs that may differ.
 TIMING_KEYS = {"wall_seconds", "ns_per_particle_step", "stage_seconds"}
@@ -23,13 +23,10 @@ def without_timings(summary):
 
 env = Env(bin_dir_from_args(), "checkpoint-resume")
 env.start_server("--lease-seconds", "300")  # a long lease: only the release requeues in time
-# Long enough to be stopped mid-run: about 5 s on a quiet core (2026-12-05), while the worker
-# reports progress at most once a second, so the run is seen past eps 0.01 at about 0.2-0.4 of
-# its course; a snapshot on each side of the stop. (The scene of 1 s before, S = 3e-3 at 8 cells
-# per unit cell, finished before the stop once the engine ran it in 0.9 s.)
-numerics = {"cells_per_unit": 12, "eps_end": 0.05, "snapshot_eps": [0.004, 0.045]}
-sweep = env.submit({"name": "ckpt", "points": [{"S": 0.0015, "R": 1e-3, "phi": 0.4}],
-                    "numerics": numerics})
+# A run long enough to be stopped in the middle, seen past eps 0.01 at about 0.2-0.4 of its
+# course; a snapshot on each side of the stop.
+numerics = dict(STOPPABLE, snapshot_eps=[0.004, 0.045])
+sweep = env.submit({"name": "ckpt", "points": [STOPPABLE_POINT], "numerics": numerics})
 job_id = env.get("/api/v1/jobs?sweep=%d" % sweep["id"])["jobs"][0]["id"]
 
 first = env.start_worker("first")

@@ -169,3 +169,9 @@ def bin_dir_from_args():
 
 # A tiny scene: a second or less per job in a release build.
 TINY = {"cells_per_unit": 6, "eps_end": 0.03}
+
+# A run long enough to be stopped or killed in the middle: about 5 s on a quiet core of the
+# reference machine (2026-12-05), while a worker reports its progress at most once a second.
+# The 1 s scene used before (S = 3e-3 at 8 cells per unit cell) once finished before the stop.
+STOPPABLE_POINT = {"S": 0.0015, "R": 1e-3, "phi": 0.4}
+STOPPABLE = {"cells_per_unit": 12, "eps_end": 0.05}

@@ -3,14 +3,12 @@ another worker completes it; the job is not lost and its result is stored once."
 import signal
 import time
 
-from e2e_lib import Env, bin_dir_from_args, check, stop
+from e2e_lib import STOPPABLE, STOPPABLE_POINT, Env, bin_dir_from_args, check, stop
 
 env = Env(bin_dir_from_args(), "worker-kill")
 env.start_server("--lease-seconds", "2", "--rescue-interval", "0.3")
 doomed = env.start_worker("doomed")
-# About 3 s of computing in a release build: long enough to be killed in the middle.
-sweep = env.submit({"name": "kill", "points": [{"S": 0.003, "R": 1e-3, "phi": 0.4}],
-                    "numerics": {"cells_per_unit": 8, "eps_end": 0.05}})
+sweep = env.submit({"name": "kill", "points": [STOPPABLE_POINT], "numerics": STOPPABLE})
 job_id = env.get("/api/v1/jobs?sweep=%d" % sweep["id"])["jobs"][0]["id"]
 
 def running_with_progress():

@@ -3,13 +3,12 @@ is queued again at once (the attempt not counted), the worker exits 0, another w
 import signal
 import time
 
-from e2e_lib import Env, bin_dir_from_args, check, stop
+from e2e_lib import STOPPABLE, STOPPABLE_POINT, Env, bin_dir_from_args, check, stop
 
 env = Env(bin_dir_from_args(), "worker-sigterm")
 env.start_server("--lease-seconds", "300")  # a long lease: only the release can requeue in time
 first = env.start_worker("first")
-sweep = env.submit({"name": "term", "points": [{"S": 0.003, "R": 1e-3, "phi": 0.4}],
-                    "numerics": {"cells_per_unit": 8, "eps_end": 0.05}})
+sweep = env.submit({"name": "term", "points": [STOPPABLE_POINT], "numerics": STOPPABLE})
 job_id = env.get("/api/v1/jobs?sweep=%d" % sweep["id"])["jobs"][0]["id"]
 env.wait_for(lambda: env.get("/api/v1/jobs/%d" % job_id)["state"] == "running", 60, "the job to run")
 t = time.time()
