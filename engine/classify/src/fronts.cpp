@@ -184,20 +184,19 @@ void fit_speed(Front& fr, const Scales& k, double frame_eps, const TrackerSettin
   const std::size_t last = fr.turns.empty() ? p.size() - 1 : fr.turns.front().index;
   const bool down = p[last].centroid < p.front().centroid;
   LineFit fit;
-  double eps_first = nan, y_first = nan, eps_last = nan, y_last = nan;
   for (std::size_t i = 0; i <= last; ++i) {
     if (diffuse(p[i], k) || p[i].shared) continue;
     const double y = down ? p[i].lo : p[i].hi;
     if (y < k.margin || y > top_of(p[i].eps) - k.margin) continue;
     fit.add(p[i].eps, y);
     fr.leg_edge.push_back({p[i].eps, y});
-    if (fit.n == 1) eps_first = p[i].eps, y_first = y;
-    eps_last = p[i].eps, y_last = y;
   }
   if (fit.n < s.min_fit_points || !fit.has_slope()) return;
   const double slope = fit.slope();  // h0 per unit imposed strain = speed / V
   fr.speed = down ? -slope : slope;
   fr.speed_error = fit.slope_standard_error();
+  const auto [eps_first, y_first] = fr.leg_edge.front();
+  const auto [eps_last, y_last] = fr.leg_edge.back();
   const double travel = down ? y_first - y_last : y_last - y_first, strain = eps_last - eps_first;
   fr.transit_speed = travel / strain;
   // Each end is known to one row in height and half a frame in strain, and in a structured
