@@ -33,7 +33,7 @@ constexpr std::uint32_t kFormatVersion = 3;
 // size and stops the build here: write it into the checkpoint (and read it back), describe it
 // in schema/checkpoint-format.md and raise kFormatVersion.
 // Particles::field_bits is left out: p2g writes it before g2p reads it, within every step.
-static_assert(sizeof(Particles) == 384, "Particles changed: add the field to the checkpoint");
+static_assert(sizeof(Particles) == 576, "Particles changed: add the field to the checkpoint");
 static_assert(sizeof(Clock) == 40, "Clock changed: add the field to the checkpoint");
 static_assert(sizeof(StepMeasure) == 48, "StepMeasure changed: add the field to the checkpoint");
 static_assert(sizeof(Frame) == 9 * sizeof(double), "Frame changed: raise kFormatVersion");
@@ -274,7 +274,7 @@ CheckpointInfo write_checkpoint(const std::string& path, const SceneParams& p, c
   // 3. particles
   o.put(static_cast<std::uint64_t>(P.n)), o.put(P.mass), o.put(P.vol0);
   o.put_array(P.x), o.put_array(P.y), o.put_array(P.vx), o.put_array(P.vy);
-  o.put_array(P.C), o.put_array(P.Fe), o.put_array(P.tau);
+  o.put_array(P.C.rows()), o.put_array(P.Fe.rows()), o.put_array(P.tau.rows());
   o.put_array(P.dep), o.put_array(P.ep), o.put_array(P.x0);
   o.put_array(P.strut), o.put_array(P.strut_mid);
   o.put_array(P.nx), o.put_array(P.ny);  // split_fields' face normals, else empty
@@ -356,7 +356,10 @@ CheckpointInfo restore_checkpoint(const std::string& path, const SceneParams& p,
   }
   in.get_array(P.x, n, "x"), in.get_array(P.y, n, "y");
   in.get_array(P.vx, n, "vx"), in.get_array(P.vy, n, "vy");
-  in.get_array(P.C, n, "C"), in.get_array(P.Fe, n, "Fe"), in.get_array(P.tau, n, "tau");
+  std::vector<Mat2> c, fe;
+  std::vector<Sym2> tau;
+  in.get_array(c, n, "C"), in.get_array(fe, n, "Fe"), in.get_array(tau, n, "tau");
+  P.C.set_rows(c), P.Fe.set_rows(fe), P.tau.set_rows(tau);
   in.get_array(P.dep, n, "dep"), in.get_array(P.ep, n, "ep"), in.get_array(P.x0, n, "x0");
   in.get_array(P.strut, n, "strut"), in.get_array(P.strut_mid, n, "strut_mid");
   const std::size_t normals = s.setup.split_fields ? n : 0;

@@ -138,7 +138,7 @@ void FrameRecorder::take_snapshot_if_due(const Particles& P, double eps_end, dou
   snap.jacobian.resize(P.n);
   for (std::size_t k = 0; k < P.n; ++k) {
     snap.strain_rate[k] = static_cast<float>(P.dep[k] / d_eps);
-    const Mat2& F = P.Fe[k];
+    const Mat2 F = P.Fe[k];
     snap.jacobian[k] = static_cast<float>(F.xx * F.yy - F.xy * F.yx);  // det Fp = 1
   }
   out.snapshots.push_back(std::move(snap));

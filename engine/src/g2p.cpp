@@ -26,6 +26,16 @@ struct GatherBlock {
   alignas(64) double x[kBlock], y[kBlock], v2[kBlock];
 };
 
+// The step's measures over a thread's particles as eight running lanes, which one vector
+// updates at once: maxima and minima are exact, so the lanes' order does not change them. A
+// NaN speed is counted apart and makes max_v2 NaN; a NaN position is ignored, as std::min and
+// std::max ignore their second argument's NaN.
+struct MeasureLanes {
+  static constexpr std::size_t kLanes = 8;
+  alignas(64) double max_v2[kLanes], nan_v2[kLanes];
+  alignas(64) double x_min[kLanes], x_max[kLanes], y_min[kLanes], y_max[kLanes];
+};
+
 // What the transfer of one block reads besides the particles.
 struct GridView {
   double dx, inv_dx, c_scale, gxo, gyo;
@@ -52,7 +62,9 @@ template <bool kApic, bool kExact, bool kSplit>
     std::size_t n, double dt, const GridView& v, const int* __restrict col,
     const Node* __restrict nodes, const double* __restrict mx, const double* __restrict my,
     double* __restrict px, double* __restrict py, double* __restrict pvx,
-    double* __restrict pvy, Mat2* __restrict pc, const Mat2* __restrict pf,
+    double* __restrict pvy, double* __restrict cxx, double* __restrict cxy,
+    double* __restrict cyx, double* __restrict cyy, const double* __restrict fxx,
+    const double* __restrict fxy, const double* __restrict fyx, const double* __restrict fyy,
     GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk, std::ptrdiff_t second,
     const std::uint16_t* __restrict field_bits, double* __restrict pnx, double* __restrict pny) {
   const double dx = v.dx, inv_dx = v.inv_dx, c_scale = v.c_scale, alpha = v.alpha;
@@ -102,7 +114,7 @@ template <bool kApic, bool kExact, bool kSplit>
       }
     }
     const Mat2 c{bxx * c_scale, bxy * c_scale, byx * c_scale, byy * c_scale};
-    pc[i] = c;
+    cxx[i] = c.xx, cxy[i] = c.xy, cyx[i] = c.yx, cyy[i] = c.yy;
     if constexpr (kSplit) {  // a material normal follows F^-T: dn/dt = -C^T n
       const double nx = pnx[i], ny = pny[i];
       double ux = nx - dt * (c.xx * nx + c.yx * ny), uy = ny - dt * (c.xy * nx + c.yy * ny);
@@ -126,7 +138,7 @@ template <bool kApic, bool kExact, bool kSplit>
     gb->x[i] = x, gb->y[i] = y;
 
     const Mat2 grad = kExact ? Mat2{gxx * inv_dx, gxy * inv_dx, gyx * inv_dx, gyy * inv_dx} : c;
-    const Mat2 f = pf[i];  // trial Fe = (I + dt grad v) Fe
+    const Mat2 f{fxx[i], fxy[i], fyx[i], fyy[i]};  // trial Fe = (I + dt grad v) Fe
     blk->fxx[i] = f.xx + dt * (grad.xx * f.xx + grad.xy * f.yx);
     blk->fxy[i] = f.xy + dt * (grad.xx * f.xy + grad.xy * f.yy);
     blk->fyx[i] = f.yx + dt * (grad.yx * f.xx + grad.yy * f.yx);
@@ -134,11 +146,57 @@ template <bool kApic, bool kExact, bool kSplit>
   }
 }
 
+// dep += plastic for a block's particles: the plastic strain of this frame (ep, the running
+// total, is updated once per frame).
+[[gnu::always_inline]] inline void add_plastic(double* __restrict dep,
+                                               const double* __restrict plastic, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) dep[i] += plastic[i];
+}
+
 // The measures of no particle, which combine() with any others gives those others.
 StepMeasure no_particles() {
   StepMeasure m;
   m.y_min = m.x_min = std::numeric_limits<double>::infinity();
   m.y_max = m.x_max = -std::numeric_limits<double>::infinity();
+  return m;
+}
+
+MeasureLanes no_lanes() {
+  MeasureLanes l;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < MeasureLanes::kLanes; ++j) {
+    l.max_v2[j] = 0.0, l.nan_v2[j] = 0.0;
+    l.x_min[j] = l.y_min[j] = inf, l.x_max[j] = l.y_max[j] = -inf;
+  }
+  return l;
+}
+
+// Adds the first `groups` eight particles of a block to the lanes, as a loop that vectorises.
+[[gnu::always_inline]] inline void add_to_lanes(const GatherBlock* __restrict gb,
+                                                std::size_t groups, MeasureLanes* __restrict l) {
+  constexpr std::size_t w = MeasureLanes::kLanes;
+  for (std::size_t g = 0; g < groups; ++g) {
+    for (std::size_t j = 0; j < w; ++j) {
+      const double v2 = gb->v2[g * w + j], x = gb->x[g * w + j], y = gb->y[g * w + j];
+      l->nan_v2[j] += v2 != v2 ? 1.0 : 0.0;
+      l->max_v2[j] = std::max(l->max_v2[j], v2);
+      l->x_min[j] = std::min(l->x_min[j], x), l->x_max[j] = std::max(l->x_max[j], x);
+      l->y_min[j] = std::min(l->y_min[j], y), l->y_max[j] = std::max(l->y_max[j], y);
+    }
+  }
+}
+
+// The measures the lanes hold.
+StepMeasure from_lanes(const MeasureLanes& l) {
+  StepMeasure m = no_particles();
+  double nan = 0.0;
+  for (std::size_t j = 0; j < MeasureLanes::kLanes; ++j) {
+    nan += l.nan_v2[j];
+    m.max_v2 = std::max(m.max_v2, l.max_v2[j]);
+    m.x_min = std::min(m.x_min, l.x_min[j]), m.x_max = std::max(m.x_max, l.x_max[j]);
+    m.y_min = std::min(m.y_min, l.y_min[j]), m.y_max = std::max(m.y_max, l.y_max[j]);
+  }
+  if (nan != 0.0) m.max_v2 = std::nan("");
   return m;
 }
 
@@ -159,8 +217,9 @@ struct Gather {
                         g.periodic_x ? s.width : std::numeric_limits<double>::infinity(),
                         s.flip_ratio};
     StepMeasure m = no_particles();
-    ReturnMapBlock blk;  // the block's trial Fe in; Fe, tau and the plastic increment out
+    ReturnMapBlock blk;  // the block's trial Fe, and the plastic increments
     GatherBlock gb;      // positions and squared speeds, for the step's measures
+    MeasureLanes lanes = no_lanes();
     for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
       const std::size_t nb = std::min(kBlock, end - b0);
       SplitView split{};
@@ -171,30 +230,43 @@ struct Gather {
       transfer_block<kApic, kExact, kSplit>(
           nb, dt, view, g.col.data(), g.arrays.nodes.data(), g.arrays.mx.data(),
           g.arrays.my.data(), P.x.data() + b0, P.y.data() + b0, P.vx.data() + b0,
-          P.vy.data() + b0, P.C.data() + b0, P.Fe.data() + b0, &gb, &blk, split.second,
-          split.bits, split.pnx, split.pny);
-      return_map_block<false>(blk, nb, s.material);
-      if (any_redo(blk, nb)) return_map_block<true>(blk, nb, s.material);
-      for (std::size_t i = 0; i < nb; ++i) {
-        const std::size_t p = b0 + i;
-        Mat2& f = P.Fe[p];
-        double plastic;
-        if (blk.redo[i] != 0.0) [[unlikely]] {  // outside the series' range: the exact update
-          f = Mat2{blk.fxx[i], blk.fxy[i], blk.fyx[i], blk.fyy[i]};
-          plastic = return_map(f, s.material, P.tau[p]);
-          if (std::isnan(plastic)) m.bad_jacobian = true;
-        } else {
-          f = Mat2{blk.exx[i], blk.exy[i], blk.eyx[i], blk.eyy[i]};
-          P.tau[p] = Sym2{blk.txx[i], blk.txy[i], blk.tyy[i]};
-          plastic = blk.plastic[i];
-        }
-        P.dep[p] += plastic;  // ep, the running total, is updated once per frame
-        const double v2 = gb.v2[i];
-        m.max_v2 = std::isnan(v2) ? v2 : std::max(m.max_v2, v2);  // NaN sticks
-        m.y_min = std::min(m.y_min, gb.y[i]), m.y_max = std::max(m.y_max, gb.y[i]);
-        m.x_min = std::min(m.x_min, gb.x[i]), m.x_max = std::max(m.x_max, gb.x[i]);
+          P.vy.data() + b0, P.C.xx.data() + b0, P.C.xy.data() + b0, P.C.yx.data() + b0,
+          P.C.yy.data() + b0, P.Fe.xx.data() + b0, P.Fe.xy.data() + b0, P.Fe.yx.data() + b0,
+          P.Fe.yy.data() + b0, &gb, &blk, split.second, split.bits, split.pnx, split.pny);
+      // Fe and tau straight into the particles; the block keeps the trial Fe.
+      double* const fe[4] = {P.Fe.xx.data() + b0, P.Fe.xy.data() + b0, P.Fe.yx.data() + b0,
+                             P.Fe.yy.data() + b0};
+      double* const tau[3] = {P.tau.xx.data() + b0, P.tau.xy.data() + b0, P.tau.yy.data() + b0};
+      return_map_block<false>(blk, nb, s.material, fe[0], fe[1], fe[2], fe[3], tau[0], tau[1],
+                              tau[2]);
+      const bool handed_back = any_redo(blk, nb);
+      if (handed_back) {
+        return_map_block<true>(blk, nb, s.material, fe[0], fe[1], fe[2], fe[3], tau[0], tau[1],
+                               tau[2]);
       }
+      add_plastic(P.dep.data() + b0, blk.plastic, nb);  // 0 for a particle handed back
+      if (handed_back && any_redo(blk, nb)) {
+        for (std::size_t i = 0; i < nb; ++i) {
+          if (blk.redo[i] == 0.0) continue;
+          const std::size_t p = b0 + i;  // outside the series' range: the exact update
+          Mat2 f{blk.fxx[i], blk.fxy[i], blk.fyx[i], blk.fyy[i]};
+          Sym2 t = P.tau[p];  // return_map leaves it when J <= 0, which ends the run
+          const double plastic = return_map(f, s.material, t);
+          if (std::isnan(plastic)) m.bad_jacobian = true;
+          P.Fe.set(p, f), P.tau.set(p, t);
+          P.dep[p] += plastic;
+        }
+      }
+      // The block's last group of eight is filled up with particles that change no measure.
+      const std::size_t groups = (nb + MeasureLanes::kLanes - 1) / MeasureLanes::kLanes;
+      for (std::size_t i = nb; i < groups * MeasureLanes::kLanes; ++i) {
+        gb.v2[i] = 0.0, gb.x[i] = gb.y[i] = std::nan("");
+      }
+      add_to_lanes(&gb, groups, &lanes);
     }
+    const StepMeasure lm = from_lanes(lanes);
+    m.max_v2 = lm.max_v2, m.x_min = lm.x_min, m.x_max = lm.x_max, m.y_min = lm.y_min,
+    m.y_max = lm.y_max;
     return m;
   }
 };

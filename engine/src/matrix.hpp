@@ -1,6 +1,11 @@
 // The small matrices of a 2D particle: a general 2 x 2 (deformation gradient, affine velocity)
-// and a symmetric one (Kirchhoff stress). Plain values, row-major fields.
+// and a symmetric one (Kirchhoff stress). Plain values, row-major fields; and the particles'
+// sets of them, one array per entry (structure of arrays), so that the loops over particles
+// load and store each entry of eight particles as one vector.
 #pragma once
+
+#include <cstddef>
+#include <vector>
 
 namespace compaction {
 
@@ -10,6 +15,49 @@ struct Mat2 {
 
 struct Sym2 {
   double xx, xy, yy;
+};
+
+// n general 2 x 2 matrices, an array per entry.
+struct Mat2Columns {
+  std::vector<double> xx, xy, yx, yy;
+
+  void assign(std::size_t n, const Mat2& m) {
+    xx.assign(n, m.xx), xy.assign(n, m.xy), yx.assign(n, m.yx), yy.assign(n, m.yy);
+  }
+  Mat2 operator[](std::size_t k) const { return {xx[k], xy[k], yx[k], yy[k]}; }
+  void set(std::size_t k, const Mat2& m) {
+    xx[k] = m.xx, xy[k] = m.xy, yx[k] = m.yx, yy[k] = m.yy;
+  }
+  // As matrices one after another (the checkpoint's layout), and back.
+  std::vector<Mat2> rows() const {
+    std::vector<Mat2> r(xx.size());
+    for (std::size_t k = 0; k < r.size(); ++k) r[k] = (*this)[k];
+    return r;
+  }
+  void set_rows(const std::vector<Mat2>& r) {
+    assign(r.size(), Mat2{});
+    for (std::size_t k = 0; k < r.size(); ++k) set(k, r[k]);
+  }
+};
+
+// n symmetric 2 x 2 matrices, an array per entry.
+struct Sym2Columns {
+  std::vector<double> xx, xy, yy;
+
+  void assign(std::size_t n, const Sym2& m) {
+    xx.assign(n, m.xx), xy.assign(n, m.xy), yy.assign(n, m.yy);
+  }
+  Sym2 operator[](std::size_t k) const { return {xx[k], xy[k], yy[k]}; }
+  void set(std::size_t k, const Sym2& m) { xx[k] = m.xx, xy[k] = m.xy, yy[k] = m.yy; }
+  std::vector<Sym2> rows() const {
+    std::vector<Sym2> r(xx.size());
+    for (std::size_t k = 0; k < r.size(); ++k) r[k] = (*this)[k];
+    return r;
+  }
+  void set_rows(const std::vector<Sym2>& r) {
+    assign(r.size(), Sym2{});
+    for (std::size_t k = 0; k < r.size(); ++k) set(k, r[k]);
+  }
 };
 
 }  // namespace compaction

@@ -109,6 +109,18 @@ void sum_scratch(Grid& g, int row_begin, int row_end, bool normals) {
 using Lanes = double __attribute__((vector_size(32)));
 static_assert(sizeof(Lanes) == sizeof(Node));
 
+// The order in which a block's particles add to the nodes: particle k of the block's first
+// half, then particle k of its second half, and so on. Neighbours in the lattice order share
+// most of their nine nodes, so each node update would wait for the previous particle's store
+// to that node; particles half a block apart (8 cells along a lattice row) rarely share one.
+// Every node still gets its particles' contributions in one fixed order, so the result bits
+// depend only on the blocks. (The node normals of split_fields keep the lattice order: a
+// pair's field is the sign of a product with its node's normal, and on the rows a thread has
+// to itself that normal then has the same bits with one thread as with two.)
+inline std::size_t interleaved(std::size_t kk, std::size_t nb) {
+  return (kk & 1) != 0 ? (nb + 1) / 2 + kk / 2 : kk / 2;
+}
+
 // What a block of particles brings to its 3 x 3 nodes, structure of arrays: node (a, b) of
 // particle i gets wx_a * lo_b + wdx_a * hi_b with lo_b = {wm_b, qx_b, qy_b, 0} and
 // hi_b = {0, qxx_b, qyx_b, 0} (plus the exact-gradient and FLIP terms of those variants).
@@ -129,8 +141,9 @@ template <bool kApic, bool kExact>
 [[gnu::always_inline]] inline void prepare_block(
     std::size_t n, double dt, const Setup& s, const Grid& g, double m,
     const double* __restrict px, const double* __restrict py, const double* __restrict pvx,
-    const double* __restrict pvy, const Mat2* __restrict pc, const Sym2* __restrict ptau,
-    ScatterBlock* __restrict sb) {
+    const double* __restrict pvy, const double* __restrict cxx, const double* __restrict cxy,
+    const double* __restrict cyx, const double* __restrict cyy, const double* __restrict txx,
+    const double* __restrict txy, const double* __restrict tyy, ScatterBlock* __restrict sb) {
   const double dx = g.dx, inv_dx = g.inv_dx, gxo = g.gx, gyo = g.gy;
   const std::ptrdiff_t nx = g.nx;
   const int* __restrict col = g.col.data();  // a stencil column's node column (periodic wrap)
@@ -139,11 +152,10 @@ template <bool kApic, bool kExact>
   for (std::size_t i = 0; i < n; ++i) {
     const auto kx = kernel::quadratic(px[i] * inv_dx + gxo);
     const auto ky = kernel::quadratic(py[i] * inv_dx + gyo);
-    const Sym2 t = ptau[i];
+    const Sym2 t{txx[i], txy[i], tyy[i]};
     Mat2 q{stress * t.xx, stress * t.xy, stress * t.xy, stress * t.yy};
     if constexpr (kApic) {
-      const Mat2 c = pc[i];
-      q.xx += m * c.xx, q.xy += m * c.xy, q.yx += m * c.yx, q.yy += m * c.yy;
+      q.xx += m * cxx[i], q.xy += m * cxy[i], q.yx += m * cyx[i], q.yy += m * cyy[i];
     }
     const double mvx = m * pvx[i], mvy = m * pvy[i];
 #pragma GCC unroll 3
@@ -215,13 +227,16 @@ struct Scatter {
     ScatterBlock sb;
     for (std::size_t b0 = begin; b0 < end; b0 += kScatterBlock) {
       const std::size_t nb = std::min(kScatterBlock, end - b0);
-      prepare_block<kApic, kExact>(nb, dt, s, g, P.mass, P.x.data() + b0, P.y.data() + b0,
-                                   P.vx.data() + b0, P.vy.data() + b0, P.C.data() + b0,
-                                   P.tau.data() + b0, &sb);
+      prepare_block<kApic, kExact>(
+          nb, dt, s, g, P.mass, P.x.data() + b0, P.y.data() + b0, P.vx.data() + b0,
+          P.vy.data() + b0, P.C.xx.data() + b0, P.C.xy.data() + b0, P.C.yx.data() + b0,
+          P.C.yy.data() + b0, P.tau.xx.data() + b0, P.tau.xy.data() + b0, P.tau.yy.data() + b0,
+          &sb);
       if constexpr (kSplit) {
         choose_fields_block(nb, nx, normals, P.nx.data() + b0, P.ny.data() + b0, &sb);
       }
-      for (std::size_t k = 0; k < nb; ++k) {
+      for (std::size_t kk = 0; kk < nb; ++kk) {
+        const std::size_t k = interleaved(kk, nb);
         const bool own = to.to_own(sb.base[k]);
         Node* const nodes = own ? own_nodes : grid_nodes;
         [[maybe_unused]] double* const mx = mxy[own][0];

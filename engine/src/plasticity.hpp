@@ -137,9 +137,15 @@ inline bool any_redo(const ReturnMapBlock& b, std::size_t n) {
 // hands back everything beyond; kLong = true also the long one (|z| < 1/4). The caller runs the
 // short pass and repeats the block with the long one only when some particle was handed back:
 // computing both series for every particle costs the common case 17 % of its step.
+//
+// Fe and tau go to the arrays given (the particles' own, in the time step), or to the block's
+// (the overload below); the block keeps the trial Fe, so a second pass can read it again. A
+// particle handed back gets a plastic increment of 0 here.
 template <bool kLong>
-[[gnu::always_inline]] inline void return_map_block(ReturnMapBlock& b, std::size_t n,
-                                                   const Material& m) {
+[[gnu::always_inline]] inline void return_map_block(
+    ReturnMapBlock& b, std::size_t n, const Material& m, double* __restrict exx,
+    double* __restrict exy, double* __restrict eyx, double* __restrict eyy,
+    double* __restrict txx, double* __restrict txy, double* __restrict tyy) {
   constexpr double range = kLong ? kLongSeries : kShortSeries;
   const double lm = m.lambda + m.mu, mu = m.mu, dy = m.d_yield;
   for (std::size_t i = 0; i < n; ++i) {
@@ -169,21 +175,27 @@ template <bool kLong>
     const double ch = 1.0 + k2 * (0.5 + k2 * (1.0 / 24 + k2 * (1.0 / 720 + k2 * (1.0 / 40320))));
     const double sh = k * (1.0 + k2 * (1.0 / 6 + k2 * (1.0 / 120 + k2 * (1.0 / 5040))));
     // Fe <- (ch I - sh N) Fe: the identity when k = 0
-    b.exx[i] = (ch - sh * nxx) * xx - sh * nxy * yx;
-    b.exy[i] = (ch - sh * nxx) * xy - sh * nxy * yy;
-    b.eyx[i] = -sh * nxy * xx + (ch + sh * nxx) * yx;
-    b.eyy[i] = -sh * nxy * xy + (ch + sh * nxx) * yy;
-    b.plastic[i] = 2.0 * k * 0.70710678118654752440;
+    exx[i] = (ch - sh * nxx) * xx - sh * nxy * yx;
+    exy[i] = (ch - sh * nxx) * xy - sh * nxy * yy;
+    eyx[i] = -sh * nxy * xx + (ch + sh * nxx) * yx;
+    eyy[i] = -sh * nxy * xy + (ch + sh * nxx) * yy;
     const double d_e = std::min(d_trial, dy);
     const double p = lm * log_j;
-    b.txx[i] = p + mu * d_e * nxx;
-    b.txy[i] = mu * d_e * nxy;
-    b.tyy[i] = p + mu * d_e * -nxx;
+    txx[i] = p + mu * d_e * nxx;
+    txy[i] = mu * d_e * nxy;
+    tyy[i] = p + mu * d_e * -nxx;
     // Everything outside the series' range, J <= 0 and NaN fail these comparisons.
     const bool ok = (std::abs(z) < range) & (std::abs(zj) < range) & (k < kShortSeries) &
                     (J > 0.0);
+    b.plastic[i] = ok ? 2.0 * k * 0.70710678118654752440 : 0.0;
     b.redo[i] = ok ? 0.0 : 1.0;
   }
+}
+
+template <bool kLong>
+[[gnu::always_inline]] inline void return_map_block(ReturnMapBlock& b, std::size_t n,
+                                                   const Material& m) {
+  return_map_block<kLong>(b, n, m, b.exx, b.exy, b.eyx, b.eyy, b.txx, b.txy, b.tyy);
 }
 
 }  // namespace compaction

@@ -21,9 +21,9 @@ struct Particles {
   double vol0 = 0.0;  // initial area                                        [m^2]
   std::vector<double> x, y;     // position                                  [m]
   std::vector<double> vx, vy;   // velocity                                  [m/s]
-  std::vector<Mat2> C;          // APIC affine velocity = velocity gradient  [1/s]
-  std::vector<Mat2> Fe;         // elastic deformation gradient (double: strain steps ~1e-7)
-  std::vector<Sym2> tau;        // Kirchhoff stress                          [N/m]
+  Mat2Columns C;                // APIC affine velocity = velocity gradient  [1/s]
+  Mat2Columns Fe;               // elastic deformation gradient (double: strain steps ~1e-7)
+  Sym2Columns tau;              // Kirchhoff stress                          [N/m]
   std::vector<double> dep;      // plastic strain accumulated in the current frame
   std::vector<double> ep;       // plastic strain accumulated up to the last frame
   std::vector<double> x0;       // initial position x, for strut deflections [m]

@@ -30,8 +30,8 @@ void stir(State& s) {
   for (std::size_t k = 0; k < P.n; ++k) {
     const double a = std::sin(1.3 * k), b = std::cos(0.7 * k);
     P.vx[k] = 0.3 * a, P.vy[k] = -0.2 * b;
-    P.C[k] = {0.5 * b, -0.1 * a, 0.2 * a, -0.4 * b};
-    P.tau[k] = {40.0 * a, 15.0 * b, -25.0 * a * b};
+    P.C.set(k, {0.5 * b, -0.1 * a, 0.2 * a, -0.4 * b});
+    P.tau.set(k, {40.0 * a, 15.0 * b, -25.0 * a * b});
   }
   s.grid.row_lo = 0, s.grid.row_hi = s.grid.ny;
 }
@@ -155,7 +155,7 @@ State closing_gap(double gap_cells, PoreContact contact, double u) {
     const bool above = P.y[k] > yc;
     P.x[kept] = P.x[k], P.y[kept] = P.y[k];
     P.vx[kept] = 0.0, P.vy[kept] = above ? -u : u;
-    P.C[kept] = {0, 0, 0, 0}, P.tau[kept] = {0, 0, 0};
+    P.C.set(kept, {0, 0, 0, 0}), P.tau.set(kept, {0, 0, 0});
     if (split) P.nx[kept] = 0.0, P.ny[kept] = above ? 1.0 : -1.0;
     ++kept;
   }

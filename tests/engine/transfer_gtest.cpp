@@ -34,8 +34,8 @@ State spinning_block(double omega, double ux, double uy, Transfer transfer,
   for (std::size_t k = 0; k < P.n; ++k) {
     P.vx[k] = ux - omega * (P.y[k] - cy);
     P.vy[k] = uy + omega * (P.x[k] - cx);
-    P.C[k] = {0, -omega, omega, 0};
-    P.tau[k] = {0, 0, 0};
+    P.C.set(k, {0, -omega, omega, 0});
+    P.tau.set(k, {0, 0, 0});
   }
   s.grid.row_lo = 0, s.grid.row_hi = s.grid.ny;
   return s;
@@ -87,7 +87,7 @@ TEST(TransferGtest, StressForcesSumToZeroSoMomentumIsConserved) {
   for (Gradient gr : {Gradient::mls, Gradient::bspline}) {
     State s = spinning_block(0.0, 0.3, 0.1, tr, gr);
     for (std::size_t k = 0; k < s.particles.n; ++k) {
-      s.particles.tau[k] = {1e4 * std::sin(k * 1.3), 2e3 * std::cos(k * 0.7), -5e3 + k};
+      s.particles.tau.set(k, {1e4 * std::sin(k * 1.3), 2e3 * std::cos(k * 0.7), -5e3 + k});
     }
     ThreadPool pool(1);
     p2g(s, 1e-4, pool);  // stress impulse dt * f enters the momentum
@@ -147,7 +147,10 @@ TEST(TransferGtest, ThreadedParticleToGridIsRightForAnyParticleOrder) {
     if (j <= k) break;
     std::swap(P.x[k + 1], P.x[j]), std::swap(P.y[k + 1], P.y[j]);
     std::swap(P.vx[k + 1], P.vx[j]), std::swap(P.vy[k + 1], P.vy[j]);
-    std::swap(P.C[k + 1], P.C[j]), std::swap(P.tau[k + 1], P.tau[j]);
+    const Mat2 c = P.C[k + 1];
+    const Sym2 t = P.tau[k + 1];
+    P.C.set(k + 1, P.C[j]), P.tau.set(k + 1, P.tau[j]);
+    P.C.set(j, c), P.tau.set(j, t);
   }
   size_for_threads(b, 2);
   ThreadPool one(1), two(2);
