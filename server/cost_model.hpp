@@ -8,23 +8,23 @@
 namespace compaction::server::cost {
 
 // One particle-step on one core of the reference machine for the default transfer (APIC) and
-// gradient (MLS), one velocity field, two runs sharing the two cores: 24.4 ns. Measured as the
-// two-field runs of the six examples at the default preset, 40.3 ns per particle-step (median;
-// 39.3-44.4), over kSplitFieldsFactor (bench/results/six_examples.md, 2026-12-05, the AVX-512
-// copy of the particle loops; 22.4 ns alone on quiet cores, bench/results/engine_bench.md).
-// A processor with AVX2 only takes about 1.18 times as long, one without AVX2 about 2.
-inline constexpr double kNsPerParticleStep = 24.4;
+// gradient (MLS), one velocity field, two runs sharing the two cores: 21.9 ns. Measured as the
+// two-field runs of the six examples at the default preset, 36.2 ns per particle-step (median;
+// 35.4-41.8), over kSplitFieldsFactor (bench/results/six_examples.md, 2026-12-05, engine 0.2.2,
+// the AVX-512 copy of the particle loops; 21.2-22.6 ns alone on quiet cores,
+// bench/results/cost_factors.md). A processor with AVX2 only takes about 1.2 times as long,
+// one without AVX2 about 2.
+inline constexpr double kNsPerParticleStep = 21.9;
 // What the alternatives cost per particle-step, against the default, on one thread of a quiet
-// machine: engine_bench's reference scene, 30.5 against 22.4 ns for both (one run of
-// bench/run_engine_bench.sh, bench/results/engine_bench.md, 2026-12-05, the AVX-512 copy;
-// 1.25 with the AVX2 copy).
-inline constexpr double kPicFlipFactor = 1.36;
-inline constexpr double kBsplineFactor = 1.36;
+// machine: the median ratio of three runs of engine_bench's reference scene
+// (bench/results/cost_factors.md, 2026-12-05, engine 0.2.2, the AVX-512 copy).
+inline constexpr double kPicFlipFactor = 1.42;
+inline constexpr double kBsplineFactor = 1.27;
 // Two velocity fields across closing pores (pore_contact = split_fields): 1.65 times the
 // default per particle-step on one thread (median of four same-run pairs of engine_bench's
 // reference scene, 1.59-1.71, 2026-12-03, after the two-field transfers were vectorised; 2.03
-// before; on quiet cores on 2026-12-05, 1.56 with the AVX2 copy, 1.69 with the AVX-512 copy,
-// bench/results/engine_bench.md).
+// before; 1.64-1.76 in three runs of engine 0.2.2 on 2026-12-05, median 1.66,
+// bench/results/cost_factors.md).
 inline constexpr double kSplitFieldsFactor = 1.65;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
