@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "kernel.hpp"
@@ -44,39 +45,72 @@ struct GridView {
   double alpha;        // FLIP share (pic_flip)
 };
 
-// Grid to particle transfer for the n particles of one block, up to the trial Fe. Every array
-// is __restrict, so that the compiler vectorises it across the block: the stencil's nine nodes
-// are loaded per particle (gathers), the rest is arithmetic without branches.
-// kSplit: the offset of split_fields' second field in the nodes, the particles' field bits
-// (as p2g set them) and their normals (else 0 and null). The pointers reach transfer_block as
-// __restrict parameters: without that promise the stores to the normals might alias the
-// gathered nodes, and the loop would not vectorise.
+// split_fields: the offset of the second field in the nodes, the particles' field bits (as p2g
+// set them) and their normals (else 0 and null).
 struct SplitView {
   std::ptrdiff_t second;
   const std::uint16_t* bits;
   double *pnx, *pny;
 };
 
+// The velocities of a block's stencil nodes, {vx, vy} of node (a, b) of particle i at
+// v[3 b + a][i].
+struct NodePairs {
+  alignas(64) double v[9][kBlock][2];
+};
+
+// Copies each particle's nine node velocities into the block, one pair at a time (a 16-byte
+// load and store; vx and vy are neighbours in a Node), so that the transfer reads them as
+// vectors. Inside the vectorised transfer each would be assembled from single loads, 18 a
+// particle, which cost G2P about 2 of its 13 ns per particle-step (docs/engine.md).
+// kSplit: the node of the particle's field (its field bits, as p2g set them).
+template <bool kSplit>
+[[gnu::always_inline]] inline void gather_node_pairs(
+    std::size_t n, const GridView& v, const int* __restrict col, const Node* __restrict nodes,
+    const double* __restrict px, const double* __restrict py, std::ptrdiff_t second,
+    const std::uint16_t* __restrict field_bits, NodePairs* __restrict out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const int bx = kernel::quadratic(px[i] * v.inv_dx + v.gxo).base;
+    const int by = kernel::quadratic(py[i] * v.inv_dx + v.gyo).base;
+    const std::ptrdiff_t c[3] = {col[bx + 1], col[bx + 2], col[bx + 3]};
+    [[maybe_unused]] std::ptrdiff_t bits = 0;
+    if constexpr (kSplit) bits = field_bits[i];
+#pragma GCC unroll 3
+    for (int b = 0; b < 3; ++b) {
+      const std::ptrdiff_t row = (by + b) * v.nx;
+#pragma GCC unroll 3
+      for (int a = 0; a < 3; ++a) {
+        std::ptrdiff_t k = row + c[a];
+        if constexpr (kSplit) k += -((bits >> (3 * b + a)) & 1) & second;
+        std::memcpy(out->v[3 * b + a][i], &nodes[k].vx, 2 * sizeof(double));
+      }
+    }
+  }
+}
+
+// Grid to particle transfer for the n particles of one block, up to the trial Fe, from the
+// node velocities gather_node_pairs copied. Every array is __restrict, so that the compiler
+// vectorises it across the block: arithmetic without branches. (Without that promise the
+// stores to the normals of split_fields might alias the node pairs, and the loop would not
+// vectorise.) pic_flip's momenta before forces are loaded node by node.
 template <bool kApic, bool kExact, bool kSplit>
 [[gnu::always_inline]] inline void transfer_block(
     std::size_t n, double dt, const GridView& v, const int* __restrict col,
-    const Node* __restrict nodes, const double* __restrict mx, const double* __restrict my,
+    const NodePairs* __restrict np, const double* __restrict mx, const double* __restrict my,
     double* __restrict px, double* __restrict py, double* __restrict pvx,
     double* __restrict pvy, double* __restrict cxx, double* __restrict cxy,
     double* __restrict cyx, double* __restrict cyy, const double* __restrict fxx,
     const double* __restrict fxy, const double* __restrict fyx, const double* __restrict fyy,
-    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk, std::ptrdiff_t second,
-    const std::uint16_t* __restrict field_bits, double* __restrict pnx, double* __restrict pny) {
+    GatherBlock* __restrict gb, ReturnMapBlock* __restrict blk, double* __restrict pnx,
+    double* __restrict pny) {
   const double dx = v.dx, inv_dx = v.inv_dx, c_scale = v.c_scale, alpha = v.alpha;
+  struct Pair {
+    double vx, vy;
+  };
   for (std::size_t i = 0; i < n; ++i) {
-    // The node k as this particle sees it: its field's (split_fields) or the one field.
-    [[maybe_unused]] std::ptrdiff_t bits = 0;
-    if constexpr (kSplit) bits = field_bits[i];
-    // The field's offset by a mask (all ones or zero, 64-bit integer operations that AVX2 has),
-    // not a select or a product, so that the loop still vectorises.
-    auto node = [&](std::ptrdiff_t k, int pair) -> const Node& {
-      if constexpr (kSplit) k += -((bits >> pair) & 1) & second;
-      return nodes[k];
+    // Node (a, b) as this particle sees it: its field's (split_fields) or the one field.
+    auto node = [&](int a, int b) {
+      return Pair{np->v[3 * b + a][i][0], np->v[3 * b + a][i][1]};
     };
     const auto kx = kernel::quadratic(px[i] * inv_dx + v.gxo);
     const auto ky = kernel::quadratic(py[i] * inv_dx + v.gyo);
@@ -84,6 +118,7 @@ template <bool kApic, bool kExact, bool kSplit>
     // (and x-weighted offsets) applied first.
     const double wdx0 = kx.w[0] * (0 - kx.fx) * dx, wdx1 = kx.w[1] * (1 - kx.fx) * dx,
                  wdx2 = kx.w[2] * (2 - kx.fx) * dx;
+    // pic_flip's momenta: the node columns (periodic wrap)
     const std::ptrdiff_t c0 = col[kx.base + 1], c1 = col[kx.base + 2], c2 = col[kx.base + 3];
     double vx = 0, vy = 0, bxx = 0, bxy = 0, byx = 0, byy = 0, ox = 0, oy = 0;
     double gxx = 0, gxy = 0, gyx = 0, gyy = 0;  // exact velocity gradient (times dx)
@@ -91,9 +126,7 @@ template <bool kApic, bool kExact, bool kSplit>
     for (int b = 0; b < 3; ++b) {
       const double wy = ky.w[b], wdy = ky.w[b] * (b - ky.fx) * dx;
       const std::ptrdiff_t row = (ky.base + b) * v.nx;
-      const Node& n0 = node(row + c0, 3 * b);
-      const Node& n1 = node(row + c1, 3 * b + 1);
-      const Node& n2 = node(row + c2, 3 * b + 2);
+      const Pair n0 = node(0, b), n1 = node(1, b), n2 = node(2, b);
       const double sx = kx.w[0] * n0.vx + kx.w[1] * n1.vx + kx.w[2] * n2.vx;
       const double sy = kx.w[0] * n0.vy + kx.w[1] * n1.vy + kx.w[2] * n2.vy;
       const double sdx = wdx0 * n0.vx + wdx1 * n1.vx + wdx2 * n2.vx;
@@ -219,6 +252,7 @@ struct Gather {
     StepMeasure m = no_particles();
     ReturnMapBlock blk;  // the block's trial Fe, and the plastic increments
     GatherBlock gb;      // positions and squared speeds, for the step's measures
+    NodePairs pairs;     // the block's node velocities
     MeasureLanes lanes = no_lanes();
     for (std::size_t b0 = begin; b0 < end; b0 += kBlock) {
       const std::size_t nb = std::min(kBlock, end - b0);
@@ -227,12 +261,14 @@ struct Gather {
         split = {static_cast<std::ptrdiff_t>(g.field2), P.field_bits.data() + b0,
                  P.nx.data() + b0, P.ny.data() + b0};
       }
+      gather_node_pairs<kSplit>(nb, view, g.col.data(), g.arrays.nodes.data(), P.x.data() + b0,
+                                P.y.data() + b0, split.second, split.bits, &pairs);
       transfer_block<kApic, kExact, kSplit>(
-          nb, dt, view, g.col.data(), g.arrays.nodes.data(), g.arrays.mx.data(),
+          nb, dt, view, g.col.data(), &pairs, g.arrays.mx.data(),
           g.arrays.my.data(), P.x.data() + b0, P.y.data() + b0, P.vx.data() + b0,
           P.vy.data() + b0, P.C.xx.data() + b0, P.C.xy.data() + b0, P.C.yx.data() + b0,
           P.C.yy.data() + b0, P.Fe.xx.data() + b0, P.Fe.xy.data() + b0, P.Fe.yx.data() + b0,
-          P.Fe.yy.data() + b0, &gb, &blk, split.second, split.bits, split.pnx, split.pny);
+          P.Fe.yy.data() + b0, &gb, &blk, split.pnx, split.pny);
       // Fe and tau straight into the particles; the block keeps the trial Fe.
       double* const fe[4] = {P.Fe.xx.data() + b0, P.Fe.xy.data() + b0, P.Fe.yx.data() + b0,
                              P.Fe.yy.data() + b0};
