@@ -8,24 +8,23 @@
 namespace compaction::server::cost {
 
 // One particle-step on one core of the reference machine for the default transfer (APIC) and
-// gradient (MLS), one velocity field, two runs sharing the two cores: 21.9 ns. Measured as the
-// two-field runs of the six examples at the default preset, 36.2 ns per particle-step (median;
-// 35.4-41.8), over kSplitFieldsFactor (bench/results/six_examples.md, 2026-12-05, engine 0.2.2,
-// the AVX-512 copy of the particle loops; 21.2-22.6 ns alone on quiet cores,
-// bench/results/cost_factors.md). A processor with AVX2 only takes about 1.2 times as long,
-// one without AVX2 about 2.
-inline constexpr double kNsPerParticleStep = 21.9;
+// gradient (MLS), one velocity field, two runs sharing the two cores: 19.0 ns. Measured as the
+// two-field runs of the six examples at the default preset, 33.4 ns per particle-step (median;
+// 32.9-37.7), over kSplitFieldsFactor (bench/results/six_examples.md, 2026-12-05, engine 0.2.2,
+// the AVX-512 copy of the particle loops; 18.5-20.1 ns alone on quiet cores,
+// bench/results/cost_factors.md). A processor with AVX2 only takes about 1.25 times as long,
+// one without AVX2 about 2.1.
+inline constexpr double kNsPerParticleStep = 19.0;
 // What the alternatives cost per particle-step, against the default, on one thread of a quiet
 // machine: the median ratio of three runs of engine_bench's reference scene
 // (bench/results/cost_factors.md, 2026-12-05, engine 0.2.2, the AVX-512 copy).
-inline constexpr double kPicFlipFactor = 1.42;
-inline constexpr double kBsplineFactor = 1.27;
-// Two velocity fields across closing pores (pore_contact = split_fields): 1.65 times the
-// default per particle-step on one thread (median of four same-run pairs of engine_bench's
-// reference scene, 1.59-1.71, 2026-12-03, after the two-field transfers were vectorised; 2.03
-// before; 1.64-1.76 in three runs of engine 0.2.2 on 2026-12-05, median 1.66,
-// bench/results/cost_factors.md).
-inline constexpr double kSplitFieldsFactor = 1.65;
+inline constexpr double kPicFlipFactor = 1.50;
+inline constexpr double kBsplineFactor = 1.30;
+// Two velocity fields across closing pores (pore_contact = split_fields), the same three runs:
+// 1.68-1.83 times the default per particle-step (1.65 in four sessions of 2026-12-03, before
+// G2P's node pairs made the one-field default faster; 2.03 before the two-field transfers
+// were vectorised).
+inline constexpr double kSplitFieldsFactor = 1.76;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
 
