@@ -61,8 +61,8 @@ struct NodePairs {
 
 // Copies each particle's nine node velocities into the block, one pair at a time (a 16-byte
 // load and store; vx and vy are neighbours in a Node), so that the transfer reads them as
-// vectors. Inside the vectorised transfer each would be assembled from single loads, 18 a
-// particle, which cost G2P about 2 of its 13 ns per particle-step (docs/engine.md).
+// vectors. Read inside the vectorised transfer, every vx and vy is assembled from single loads
+// (18 a particle), and G2P takes about 2 ns per particle-step longer (docs/engine.md).
 // kSplit: the node of the particle's field (its field bits, as p2g set them).
 template <bool kSplit>
 [[gnu::always_inline]] inline void gather_node_pairs(
