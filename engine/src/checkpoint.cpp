@@ -42,6 +42,21 @@ static_assert(sizeof(SpaceTimeMap) == 40, "SpaceTimeMap changed: add the field t
 static_assert(sizeof(StageTimes) == 32, "StageTimes changed: add the field to the checkpoint");
 static_assert(sizeof(RunResult) == 280, "RunResult changed: add the field to the checkpoint");
 
+// The file keeps each particle's C, Fe and tau whole, one matrix after another
+// (schema/checkpoint-format.md); the particles keep one array per entry (Mat2Columns,
+// Sym2Columns). These convert between the two.
+template <class Columns>
+auto as_rows(const Columns& c) {
+  std::vector<decltype(c[0])> r(c.size());
+  for (std::size_t k = 0; k < r.size(); ++k) r[k] = c[k];
+  return r;
+}
+template <class Columns, class Row>
+void set_from_rows(Columns& c, const std::vector<Row>& r) {
+  c.assign(r.size(), Row{});
+  for (std::size_t k = 0; k < r.size(); ++k) c.set(k, r[k]);
+}
+
 // Appends plain values and arrays (a 64-bit count, then the elements) to a byte buffer.
 class Out {
  public:
@@ -274,7 +289,7 @@ CheckpointInfo write_checkpoint(const std::string& path, const SceneParams& p, c
   // 3. particles
   o.put(static_cast<std::uint64_t>(P.n)), o.put(P.mass), o.put(P.vol0);
   o.put_array(P.x), o.put_array(P.y), o.put_array(P.vx), o.put_array(P.vy);
-  o.put_array(P.C.rows()), o.put_array(P.Fe.rows()), o.put_array(P.tau.rows());
+  o.put_array(as_rows(P.C)), o.put_array(as_rows(P.Fe)), o.put_array(as_rows(P.tau));
   o.put_array(P.dep), o.put_array(P.ep), o.put_array(P.x0);
   o.put_array(P.strut), o.put_array(P.strut_mid);
   o.put_array(P.nx), o.put_array(P.ny);  // split_fields' face normals, else empty
@@ -359,7 +374,7 @@ CheckpointInfo restore_checkpoint(const std::string& path, const SceneParams& p,
   std::vector<Mat2> c, fe;
   std::vector<Sym2> tau;
   in.get_array(c, n, "C"), in.get_array(fe, n, "Fe"), in.get_array(tau, n, "tau");
-  P.C.set_rows(c), P.Fe.set_rows(fe), P.tau.set_rows(tau);
+  set_from_rows(P.C, c), set_from_rows(P.Fe, fe), set_from_rows(P.tau, tau);
   in.get_array(P.dep, n, "dep"), in.get_array(P.ep, n, "ep"), in.get_array(P.x0, n, "x0");
   in.get_array(P.strut, n, "strut"), in.get_array(P.strut_mid, n, "strut_mid");
   const std::size_t normals = s.setup.split_fields ? n : 0;

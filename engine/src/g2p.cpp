@@ -249,7 +249,7 @@ struct Gather {
                         g.periodic_x ? s.width : 0.0,
                         g.periodic_x ? s.width : std::numeric_limits<double>::infinity(),
                         s.flip_ratio};
-    StepMeasure m = no_particles();
+    bool bad_jacobian = false;
     ReturnMapBlock blk;  // the block's trial Fe, and the plastic increments
     GatherBlock gb;      // positions and squared speeds, for the step's measures
     NodePairs pairs;     // the block's node velocities
@@ -288,7 +288,7 @@ struct Gather {
           Mat2 f{blk.fxx[i], blk.fxy[i], blk.fyx[i], blk.fyy[i]};
           Sym2 t = P.tau[p];  // return_map leaves it when J <= 0, which ends the run
           const double plastic = return_map(f, s.material, t);
-          if (std::isnan(plastic)) m.bad_jacobian = true;
+          if (std::isnan(plastic)) bad_jacobian = true;
           P.Fe.set(p, f), P.tau.set(p, t);
           P.dep[p] += plastic;
         }
@@ -300,9 +300,8 @@ struct Gather {
       }
       add_to_lanes(&gb, groups, &lanes);
     }
-    const StepMeasure lm = from_lanes(lanes);
-    m.max_v2 = lm.max_v2, m.x_min = lm.x_min, m.x_max = lm.x_max, m.y_min = lm.y_min,
-    m.y_max = lm.y_max;
+    StepMeasure m = from_lanes(lanes);
+    m.bad_jacobian = bad_jacobian;
     return m;
   }
 };

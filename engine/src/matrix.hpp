@@ -28,16 +28,7 @@ struct Mat2Columns {
   void set(std::size_t k, const Mat2& m) {
     xx[k] = m.xx, xy[k] = m.xy, yx[k] = m.yx, yy[k] = m.yy;
   }
-  // As matrices one after another (the checkpoint's layout), and back.
-  std::vector<Mat2> rows() const {
-    std::vector<Mat2> r(xx.size());
-    for (std::size_t k = 0; k < r.size(); ++k) r[k] = (*this)[k];
-    return r;
-  }
-  void set_rows(const std::vector<Mat2>& r) {
-    assign(r.size(), Mat2{});
-    for (std::size_t k = 0; k < r.size(); ++k) set(k, r[k]);
-  }
+  std::size_t size() const { return xx.size(); }
 };
 
 // n symmetric 2 x 2 matrices, an array per entry.
@@ -49,15 +40,7 @@ struct Sym2Columns {
   }
   Sym2 operator[](std::size_t k) const { return {xx[k], xy[k], yy[k]}; }
   void set(std::size_t k, const Sym2& m) { xx[k] = m.xx, xy[k] = m.xy, yy[k] = m.yy; }
-  std::vector<Sym2> rows() const {
-    std::vector<Sym2> r(xx.size());
-    for (std::size_t k = 0; k < r.size(); ++k) r[k] = (*this)[k];
-    return r;
-  }
-  void set_rows(const std::vector<Sym2>& r) {
-    assign(r.size(), Sym2{});
-    for (std::size_t k = 0; k < r.size(); ++k) set(k, r[k]);
-  }
+  std::size_t size() const { return xx.size(); }
 };
 
 }  // namespace compaction
