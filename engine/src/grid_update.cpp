@@ -8,6 +8,9 @@
 // stress is that impulse per unit width and time, averaged over a frame (diagnostics.cpp).
 // split_fields: a node with two fields is two nodes until it is full, then one
 // (pore_contact.hpp).
+// With threads, each updates a share of the rows and sums its plates' impulses apart; the
+// shares are added in thread order. Thread 0's rows hold the bottom plate and the last
+// thread's the top plate (a share is many rows), so each impulse has the bits of one thread.
 #include <algorithm>
 
 #include "stages.hpp"
@@ -15,7 +18,10 @@
 
 namespace compaction {
 
-void grid_update(State& s) {
+namespace {
+
+// Rows [row_begin, row_end): velocities from momenta, then the plates and walls.
+PlateImpulses update_rows(State& s, int row_begin, int row_end) {
   Grid& g = s.grid;
   const Setup& su = s.setup;
   const bool flip = su.transfer == Transfer::pic_flip;
@@ -23,7 +29,7 @@ void grid_update(State& s) {
   double top_impulse = 0.0, bottom_impulse = 0.0;
   Node* nodes = g.arrays.nodes.data();
   Node* second = su.split_fields ? nodes + g.field2 : nullptr;
-  for (int j = g.row_lo; j < g.row_hi; ++j) {
+  for (int j = row_begin; j < row_end; ++j) {
     const double y = (j - g.gy) * g.dx;
     const bool at_bottom = y <= 0.0, at_top = y >= top;
     // A node's velocity from its momentum, then the plates and walls on it.
@@ -62,9 +68,28 @@ void grid_update(State& s) {
       update(n, k, i);
     }
   }
-  s.clock.top_impulse += top_impulse;
-  s.clock.bottom_impulse += bottom_impulse;
-  s.clock.plate_work += -su.V * top_impulse;  // the bottom plate and the walls do not move
+  return {.top = top_impulse, .bottom = bottom_impulse};
+}
+
+}  // namespace
+
+void grid_update(State& s, ThreadPool& pool) {
+  const Grid& g = s.grid;
+  PlateImpulses sum;
+  if (pool.size() == 1) {
+    sum = update_rows(s, g.row_lo, g.row_hi);
+  } else {
+    const std::size_t rows = static_cast<std::size_t>(g.row_hi - g.row_lo);
+    std::vector<PlateImpulses>& share = s.partial_impulses;  // sized once, one per thread
+    pool.run([&](int t) {
+      share[t] = update_rows(s, g.row_lo + static_cast<int>(pool.begin(rows, t)),
+                             g.row_lo + static_cast<int>(pool.end(rows, t)));
+    });
+    for (int t = 0; t < pool.size(); ++t) sum.top += share[t].top, sum.bottom += share[t].bottom;
+  }
+  s.clock.top_impulse += sum.top;
+  s.clock.bottom_impulse += sum.bottom;
+  s.clock.plate_work += -s.setup.V * sum.top;  // the bottom plate and the walls do not move
 }
 
 }  // namespace compaction

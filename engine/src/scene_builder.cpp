@@ -194,6 +194,7 @@ State build_scene(const SceneParams& p) {
   // A full node holds rho dx^2: the particles' masses times their weights sum to it.
   s.setup.merge_mass = pore_contact::kMergeCoverage * p.rho * g.dx * g.dx;
   s.partial_measures.resize(static_cast<std::size_t>(p.threads));
+  s.partial_impulses.resize(static_cast<std::size_t>(p.threads));
   s.measure = initial_measure(s.particles);
   return s;
 }

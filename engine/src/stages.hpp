@@ -12,7 +12,7 @@ namespace compaction {
 void p2g(State& s, double dt, ThreadPool& pool);
 
 // Grid velocities from momenta; rigid plates and side walls; the plates' reaction impulses.
-void grid_update(State& s);
+void grid_update(State& s, ThreadPool& pool);
 
 // Grid to particles: velocity, affine field, position, deformation gradient, return mapping and
 // Kirchhoff stress; measures what the stability checks and the next time step need.

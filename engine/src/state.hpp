@@ -98,6 +98,11 @@ struct StepMeasure {
   bool bad_jacobian = false; // some particle had J <= 0 or a non-finite state
 };
 
+// The plates' y-impulses on the material over some rows of one step.
+struct PlateImpulses {
+  double top = 0.0, bottom = 0.0;
+};
+
 // Time, plate position and impulses.
 struct Clock {
   double t = 0.0;
@@ -115,6 +120,7 @@ struct State {
   Clock clock;
   StepMeasure measure;
   std::vector<StepMeasure> partial_measures;  // one per thread, reduced into measure
+  std::vector<PlateImpulses> partial_impulses;  // one per thread, summed in thread order
 };
 
 }  // namespace compaction

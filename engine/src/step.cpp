@@ -9,7 +9,7 @@ namespace compaction {
 void advance_step(State& s, double dt, ThreadPool& pool, StageTimes& times) {
   select_active_rows(s.grid, s.measure);                         // 1. grid rows in use
   timed(times.p2g, [&] { p2g(s, dt, pool); });                   // 2. particles -> grid
-  timed(times.grid_update, [&] { grid_update(s); });             // 3. velocities, plates, walls
+  timed(times.grid_update, [&] { grid_update(s, pool); });       // 3. velocities, plates, walls
   timed(times.g2p, [&] { g2p(s, dt, pool); });                   // 4. grid -> particles, F, tau
   s.clock.t += dt;
   ++s.clock.step;

@@ -163,7 +163,7 @@ State closing_gap(double gap_cells, PoreContact contact, double u) {
   s.grid.row_lo = 0, s.grid.row_hi = s.grid.ny;
   ThreadPool pool(1);
   p2g(s, 0.0, pool);
-  grid_update(s);
+  grid_update(s, pool);
   return s;
 }
 

@@ -105,7 +105,7 @@ TEST(TransferGtest, ApicRoundTripReproducesRigidRotationAndKeepsAngularMomentum)
   ThreadPool pool(1);
   for (int round = 0; round < 3; ++round) {  // dt = 0: transfers only, no motion
     p2g(s, 0.0, pool);
-    grid_update(s);
+    grid_update(s, pool);
     g2p(s, 0.0, pool);
   }
   const Particles& P = s.particles;
