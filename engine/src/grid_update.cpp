@@ -75,18 +75,14 @@ PlateImpulses update_rows(State& s, int row_begin, int row_end) {
 
 void grid_update(State& s, ThreadPool& pool) {
   const Grid& g = s.grid;
-  PlateImpulses sum;
-  if (pool.size() == 1) {
-    sum = update_rows(s, g.row_lo, g.row_hi);
-  } else {
-    const std::size_t rows = static_cast<std::size_t>(g.row_hi - g.row_lo);
-    std::vector<PlateImpulses>& share = s.partial_impulses;  // sized once, one per thread
-    pool.run([&](int t) {
-      share[t] = update_rows(s, g.row_lo + static_cast<int>(pool.begin(rows, t)),
-                             g.row_lo + static_cast<int>(pool.end(rows, t)));
-    });
-    for (int t = 0; t < pool.size(); ++t) sum.top += share[t].top, sum.bottom += share[t].bottom;
-  }
+  const std::size_t rows = static_cast<std::size_t>(g.row_hi - g.row_lo);
+  std::vector<PlateImpulses>& share = s.partial_impulses;  // sized once, one per thread
+  pool.run([&](int t) {
+    share[t] = update_rows(s, g.row_lo + static_cast<int>(pool.begin(rows, t)),
+                           g.row_lo + static_cast<int>(pool.end(rows, t)));
+  });
+  PlateImpulses sum = share[0];
+  for (int t = 1; t < pool.size(); ++t) sum.top += share[t].top, sum.bottom += share[t].bottom;
   s.clock.top_impulse += sum.top;
   s.clock.bottom_impulse += sum.bottom;
   s.clock.plate_work += -s.setup.V * sum.top;  // the bottom plate and the walls do not move

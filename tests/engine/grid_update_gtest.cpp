@@ -8,6 +8,7 @@
 
 #include "scene_builder.hpp"
 #include "stages.hpp"
+#include "threaded_grid.hpp"
 
 namespace compaction {
 namespace {
@@ -54,7 +55,7 @@ TEST(GridUpdateGtest, ThreadsGiveOneThreadsBits) {
     EXPECT_GT(a.clock.bottom_impulse, 0.0);  // the bottom plate stops it
     for (int threads : {2, 3}) {
       State b = column(c);
-      b.partial_impulses.resize(static_cast<std::size_t>(threads));
+      size_for_threads(b, threads);
       ThreadPool pool(threads);
       grid_update(b, pool);
       const auto& x = a.grid.arrays;

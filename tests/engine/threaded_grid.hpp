@@ -1,5 +1,6 @@
-// What the tests of threaded P2G share (transfer_gtest, pore_contact_gtest): a scene's grid
-// sized for another pool than the scene's, and the check that two grids hold the same nodes.
+// What the tests of threaded stages share (transfer_gtest, pore_contact_gtest,
+// grid_update_gtest): a scene sized for another pool than its own, and the check that two grids
+// hold the same nodes.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,10 +12,13 @@
 
 namespace compaction {
 
-// Gives the scene's grid what a pool of `threads` needs (build_scene sizes it for p.threads).
+// Gives the scene's grid and per-thread sums what a pool of `threads` needs (build_scene sizes
+// them for p.threads).
 inline void size_for_threads(State& s, int threads) {
   s.grid.scratch.assign(static_cast<std::size_t>(threads - 1), s.grid.arrays);
   s.grid.scatter_rows.resize(threads, s.grid.ny);
+  s.partial_measures.resize(static_cast<std::size_t>(threads));
+  s.partial_impulses.resize(static_cast<std::size_t>(threads));
 }
 
 // Every node of b (both fields, PIC/FLIP's momenta, the normals) holds what a's holds, to
