@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The paper's six examples at several solid fractions, at the default resolution.
+"""The paper's six examples at several solid fractions, at the default resolution or a finer one.
 
 Each example's S and R (docs/validation.md) at phi = 0.3, 0.4, 0.5 and 0.6, pseudo-1D, to full
 density (eps = 1 - phi, as the service runs them), 4.5 cells across a strut (the `default`
@@ -13,7 +13,8 @@ A run that is neither in --work nor made now keeps its row of the existing table
 earlier machine: bench/lib/kept_rows.py), or is listed as not run yet; the runs are cached in
 --work, so the study can be made in parts. --pore-contact split_fields runs the engine's
 two-field contact across closing pores (docs/engine.md, "Pore contact") and writes its own
-table.
+table. --cells-per-strut runs another resolution (the coarsest level at which (b) takes its
+converged mechanism is 8: docs/reference.md) and writes its own table too.
 """
 import argparse
 import os
@@ -38,14 +39,21 @@ def main():
     ap.add_argument("--table-only", action="store_true",
                     help="run nothing: tabulate the requested runs found in --work, list the rest")
     ap.add_argument("--pore-contact", default="single_field", choices=("single_field", "split_fields"))
+    ap.add_argument("--cells-per-strut", type=float, default=CELLS_PER_STRUT,
+                    help="cells across the thinnest strut [%(default)g, the default preset]")
     ap.add_argument("--out", default=None,
-                    help="default docs/validation/solid-fractions.md, or solid-fractions-split-fields.md")
+                    help="default docs/validation/solid-fractions.md, or solid-fractions-split-fields.md, "
+                         "with -<N>-cells-per-strut before .md at another --cells-per-strut")
     a = ap.parse_args()
+    if not 1 <= a.cells_per_strut <= 40:
+        ap.error("--cells-per-strut: %g is outside 1-40" % a.cells_per_strut)
     split = a.pore_contact == "split_fields"
+    default_cells = a.cells_per_strut == CELLS_PER_STRUT
+    suffix = ("-split_fields" if split else "") + ("" if default_cells else "-cps%g" % a.cells_per_strut)
     if a.out is None:
-        a.out = os.path.join(runs.ROOT, "docs", "validation",
-                             "solid-fractions-split-fields.md" if split else "solid-fractions.md")
-    suffix = "-split_fields" if split else ""
+        a.out = os.path.join(runs.ROOT, "docs", "validation", "solid-fractions%s%s.md" % (
+            "-split-fields" if split else "",
+            "" if default_cells else "-%g-cells-per-strut" % a.cells_per_strut))
 
     def name(e, phi):  # a run's folder in --work
         return "%s-phi%g%s" % (e, phi, suffix)
@@ -56,7 +64,7 @@ def main():
             ap.error("--examples: unknown example %r; choose from %s" % (e, ", ".join(EXAMPLES)))
     scenes = {name(e, phi): dict(
                   {"S": EXAMPLES[e][0], "R": EXAMPLES[e][1], "phi": phi,
-                   "cells_per_strut": CELLS_PER_STRUT, "eps_end": 1 - phi, "snapshot_eps": ""},
+                   "cells_per_strut": a.cells_per_strut, "eps_end": 1 - phi, "snapshot_eps": ""},
                   **({"pore_contact": "split_fields"} if split else {}))
               for phi in phis for e in examples}
     if a.table_only:  # the runs made so far, in --work; the others listed as not run
@@ -68,14 +76,15 @@ def main():
     header = "| example | phi | cells per unit cell (per strut) | label (confidence) |"
     earlier = {(r[0], r[1]): "| " + " | ".join(r) + " |" for r in kept_rows.table_rows(a.out, header)}
     kept = 0
-    lines = ["# The six examples at phi = 0.3 to 0.6 (default resolution%s)"
-             % (", two velocity fields across closing pores" if split else ""), "",
+    lines = ["# The six examples at phi = 0.3 to 0.6 (%s%s)"
+             % ("default resolution" if default_cells else "%g cells across a strut" % a.cells_per_strut,
+                ", two velocity fields across closing pores" if split else ""), "",
              "Made by `bench/validation/solid_fractions.py %s`. Pseudo-1D, to full density "
-             "(eps = 1 - phi), %g cells across a strut (the `default` preset), one thread per run. "
+             "(eps = 1 - phi), %g cells across a strut%s, one thread per run. "
              "c_b/V in both readings (fit: slope of the leading edge before its first turn; transit: "
              "mean speed of the first leg; docs/classifier.md), with their uncertainty, against "
              "the non-reflecting speed 1/(1 - phi_discrete) of the particles' structure."
-             % (" ".join(sys.argv[1:]), CELLS_PER_STRUT)
+             % (" ".join(sys.argv[1:]), a.cells_per_strut, " (the `default` preset)" if default_cells else "")
              + (" The runs were made by earlier calls with the same flags but --table-only, each for "
                 "the examples and solid fractions it names." if a.table_only else ""), "",
              "| example | phi | cells per unit cell (per strut) | label (confidence) | c_b/V fit | c_b/V transit | 1/(1 - phi) | transit against it | N_r | wall [s] |",
