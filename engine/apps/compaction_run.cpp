@@ -98,7 +98,13 @@ int main(int argc, char** argv) {
     }
   };
   control.on_checkpoint = [&](const CheckpointInfo& c) { report_checkpoint("checkpoint", c); };
-  control.on_resume = [&](const CheckpointInfo& c) { report_checkpoint("resumed", c); };
+  control.on_resume = [&](const CheckpointInfo& c) {
+    if (c.threads != p.threads) {
+      log->warn("resuming a checkpoint of {} thread(s) with {}: the result differs in round-off "
+                "from an uninterrupted run", c.threads, p.threads);
+    }
+    report_checkpoint("resumed", c);
+  };
   double next_log = 0.1;
   control.on_progress = [&](const Progress& pr) {
     switch (mode) {

@@ -10,10 +10,9 @@
 // block), then their node updates (simd_dispatch.hpp: a baseline and an AVX2 copy).
 // pore_contact = split_fields (pore_contact.hpp) first sums the particles' normals on the nodes,
 // then scatters each particle-node pair into the node's first or second field.
-// The particles go in chunks of two colours, the even chunks first, then the odd ones, which
-// the threads take in turn (scatter_chunks.hpp).
+// With threads, each scatters a share of the particles: into the grid where its rows are its
+// own, else into its scratch arrays, summed into the grid afterwards (scatter_rows.hpp).
 #include <algorithm>
-#include <atomic>
 #include <cstring>
 #include <limits>
 
@@ -25,6 +24,18 @@
 namespace compaction {
 
 namespace {
+
+// Where a thread's scatter goes: a particle whose stencil rows are `alone` (scatter_rows.hpp)
+// into the grid's arrays, any other into `own`; alone = null sends everything to the grid.
+// split_fields also writes each particle's field bits (Particles::field_bits) for g2p.
+struct Targets {
+  NodeArrays* grid;
+  NodeArrays* own;
+  const std::uint8_t* alone;
+  std::uint16_t* field_bits;
+  // Whether a particle whose stencil starts at row `base` goes into `own`.
+  bool to_own(int base) const { return alone != nullptr && !alone[base]; }
+};
 
 // Zeroes nodes [lo, hi) (and their second field) and the rows' other arrays, where a scene has
 // them.
@@ -42,7 +53,7 @@ void clear_nodes(const Grid& g, NodeArrays& a, std::size_t lo, std::size_t hi) {
 // The rows [lo, hi) that particles [begin, end) reach with their stencils. A stencil's first
 // row rises with y, so the lowest and the highest particle set them: a minimum and a maximum
 // in eight lanes, a loop that vectorises (a NaN position, which the stability checks stop the
-// run for, is passed over; particles without one reach no rows).
+// run for, is passed over).
 void reach(const Particles& P, const Grid& g, std::size_t begin, std::size_t end, int& lo,
            int& hi) {
   constexpr std::size_t kLanes = 8;
@@ -70,6 +81,46 @@ void reach(const Particles& P, const Grid& g, std::size_t begin, std::size_t end
   hi = kernel::quadratic(highest * g.inv_dx + g.gy).base + 3;
 }
 
+// Zeroes thread t's scratch on the rows it may write there: those near a shared row.
+void clear_near_rows(const Grid& g, NodeArrays& a, const ScatterRows& rows, int t) {
+  const int lo = std::max(rows.lo[t], g.row_lo), hi = std::min(rows.hi[t], g.row_hi);
+  for (int r = lo; r < hi; ++r) {
+    if (!rows.near[r]) continue;
+    const std::size_t i = static_cast<std::size_t>(r) * g.nx;
+    clear_nodes(g, a, i, i + g.nx);
+  }
+}
+
+// Adds the threads' scratch into the grid on rows [row_begin, row_end), thread 1 first: the
+// nodes (both fields, and pic_flip's momenta) or, with `normals`, the node normals.
+void sum_scratch(Grid& g, int row_begin, int row_end, bool normals) {
+  const ScatterRows& rows = g.scatter_rows;
+  for (int r = row_begin; r < row_end; ++r) {
+    if (!rows.near[r]) continue;
+    const std::size_t b = static_cast<std::size_t>(r) * g.nx, e = b + g.nx;
+    for (std::size_t u = 0; u < g.scratch.size(); ++u) {
+      if (!rows.reaches(static_cast<int>(u) + 1, r)) continue;
+      const NodeArrays& src = g.scratch[u];
+      NodeArrays& dst = g.arrays;
+      if (normals) {
+        for (std::size_t i = b; i < e; ++i) {
+          dst.normal[i].x += src.normal[i].x, dst.normal[i].y += src.normal[i].y;
+        }
+        continue;
+      }
+      for (std::size_t f = 0; f <= (g.field2 != 0 ? 1u : 0u); ++f) {
+        for (std::size_t i = b + f * g.field2; i < e + f * g.field2; ++i) {
+          Node& d = dst.nodes[i];
+          d.m += src.nodes[i].m, d.vx += src.nodes[i].vx, d.vy += src.nodes[i].vy;
+        }
+      }
+      if (!dst.mx.empty()) {
+        for (std::size_t i = b; i < e; ++i) dst.mx[i] += src.mx[i], dst.my[i] += src.my[i];
+      }
+    }
+  }
+}
+
 // The four doubles of a Node, {m, m vx, m vy, 0}, as one vector (GCC vector extension): one
 // AVX2 operation. The baseline copy adds the lanes one by one instead: SSE2 would split the
 // vector through the stack, which makes the scatter several times slower.
@@ -81,8 +132,9 @@ static_assert(sizeof(Lanes) == sizeof(Node));
 // most of their nine nodes, so each node update would wait for the previous particle's store
 // to that node; particles half a block apart (8 cells along a lattice row) rarely share one.
 // Every node still gets its particles' contributions in one fixed order, so the result bits
-// depend only on the blocks and the chunks. (The node normals of split_fields keep the lattice
-// order within a chunk; a pair's field is the sign of a product with its node's normal.)
+// depend only on the blocks. (The node normals of split_fields keep the lattice order: a
+// pair's field is the sign of a product with its node's normal, and on the rows a thread has
+// to itself that normal then has the same bits with one thread as with two.)
 inline std::size_t interleaved(std::size_t kk, std::size_t nb) {
   return (kk & 1) != 0 ? (nb + 1) / 2 + kk / 2 : kk / 2;
 }
@@ -94,6 +146,7 @@ constexpr std::size_t kScatterBlock = 32;
 struct ScatterBlock {
   static constexpr std::size_t n = kScatterBlock;
   alignas(64) std::ptrdiff_t cols[3][n], row0[n];  // the stencil's node columns, first node row
+  alignas(64) int base[n];                      // first stencil row
   alignas(64) double wx[3][n], wdx[3][n];       // x-weights, x-weighted offsets
   alignas(64) double wm[3][n], qx[3][n], qy[3][n], qxx[3][n], qyx[3][n];  // per stencil row
   alignas(64) double wy[3][n], dwx[3][n], dwy[3][n];  // bspline, pic_flip only
@@ -126,6 +179,7 @@ template <bool kApic, bool kExact>
 #pragma GCC unroll 3
     for (int a = 0; a < 3; ++a) sb->cols[a][i] = col[kx.base + 1 + a];
     sb->row0[i] = ky.base * nx;
+    sb->base[i] = ky.base;
     // Node (a, b) gets wx_a wy_b (m v + Q d), d = (dx_a, dy_b): the x-weights and x-weighted
     // offsets are formed once, each row then adds its y-part.
 #pragma GCC unroll 3
@@ -172,20 +226,20 @@ template <bool kApic, bool kExact>
   }
 }
 
-// The scatter of particles [begin, end) into the grid, one block at a time (run_loop in
+// The scatter of particles [begin, end) into `out`, one block at a time (run_loop in
 // simd_dispatch.hpp makes its variants and copies). The AVX2 copy updates a node as Lanes.
-// kSplit: a pair whose particle normal opposes the node's goes into the second field, and the
-// particle's field bits (Particles::field_bits) record it for g2p.
+// kSplit: a pair whose particle normal opposes the node's goes into the second field.
 template <bool kApic, bool kExact, bool kSplit = false>
 struct Scatter {
   template <bool kAvx2>
-  [[gnu::always_inline]] static void run(Particles& P, const Setup& s, Grid& g,
-                                         std::size_t begin, std::size_t end, double dt) {
+  [[gnu::always_inline]] static void run(const Particles& P, const Setup& s, const Grid& g,
+                                         Targets to, std::size_t begin, std::size_t end,
+                                         double dt) {
     const std::ptrdiff_t nx = g.nx;
-    Node* const nodes = g.arrays.nodes.data();
-    [[maybe_unused]] double* const mx = g.arrays.mx.data();
-    [[maybe_unused]] double* const my = g.arrays.my.data();
-    [[maybe_unused]] std::uint16_t* const field_bits = P.field_bits.data();
+    Node* const grid_nodes = to.grid->nodes.data();
+    Node* const own_nodes = to.own->nodes.data();
+    double* const mxy[2][2] = {{to.grid->mx.data(), to.grid->my.data()},
+                               {to.own->mx.data(), to.own->my.data()}};
     [[maybe_unused]] const NodeNormal* const normals = g.arrays.normal.data();
     [[maybe_unused]] const std::ptrdiff_t field2 = static_cast<std::ptrdiff_t>(g.field2);
     ScatterBlock sb;
@@ -201,6 +255,10 @@ struct Scatter {
       }
       for (std::size_t kk = 0; kk < nb; ++kk) {
         const std::size_t k = interleaved(kk, nb);
+        const bool own = to.to_own(sb.base[k]);
+        Node* const nodes = own ? own_nodes : grid_nodes;
+        [[maybe_unused]] double* const mx = mxy[own][0];
+        [[maybe_unused]] double* const my = mxy[own][1];
         const std::ptrdiff_t cs[3] = {sb.cols[0][k], sb.cols[1][k], sb.cols[2][k]};
         [[maybe_unused]] std::int64_t bits = 0;
         if constexpr (kSplit) bits = sb.bits[k];
@@ -238,7 +296,7 @@ struct Scatter {
             }
           }
         }
-        if constexpr (kSplit) field_bits[b0 + k] = static_cast<std::uint16_t>(bits);
+        if constexpr (kSplit) to.field_bits[b0 + k] = static_cast<std::uint16_t>(bits);
       }
     }
   }
@@ -252,16 +310,16 @@ struct ScatterNormals {
   struct Block {
     alignas(64) double wx[3][n], wy[3][n];
     alignas(64) std::ptrdiff_t cols[3][n], row0[n];
+    alignas(64) int base[n];
   };
   template <bool kAvx2>
-  [[gnu::always_inline]] static void run(const Particles& P, Grid& g, std::size_t begin,
-                                         std::size_t end) {
+  [[gnu::always_inline]] static void run(const Particles& P, const Grid& g, const Targets& to,
+                                         std::size_t begin, std::size_t end) {
     const double inv_dx = g.inv_dx, gxo = g.gx, gyo = g.gy;
     const std::ptrdiff_t nx = g.nx;
     const int* __restrict col = g.col.data();
     const double* __restrict px = P.x.data();
     const double* __restrict py = P.y.data();
-    NodeNormal* const out = g.arrays.normal.data();
     Block blk;
     for (std::size_t b0 = begin; b0 < end; b0 += n) {
       const std::size_t nb = std::min(n, end - b0);
@@ -275,8 +333,10 @@ struct ScatterNormals {
           bk->cols[a][i] = col[kx.base + 1 + a];
         }
         bk->row0[i] = ky.base * nx;
+        bk->base[i] = ky.base;
       }
       for (std::size_t k = 0; k < nb; ++k) {
+        NodeNormal* const out = (to.to_own(blk.base[k]) ? to.own : to.grid)->normal.data();
         const double pnx = P.nx[b0 + k], pny = P.ny[b0 + k];
 #pragma GCC unroll 3
         for (int b = 0; b < 3; ++b) {
@@ -298,59 +358,55 @@ struct ScatterNormals {
 
 void p2g(State& s, double dt, ThreadPool& pool) {
   Grid& g = s.grid;
-  Particles& P = s.particles;
+  const Particles& P = s.particles;
   const bool split = s.setup.split_fields;  // apic and mls (validate())
+  const bool threads = pool.size() > 1;
   const std::size_t n = P.n;
-  constexpr std::size_t block = kScatterBlock;
-  const std::size_t blocks = (n + block - 1) / block;
-  ScatterChunks& chunks = g.scatter_chunks;
-  chunks.fit(n, block);
+  ScatterRows& rows = g.scatter_rows;
   const std::size_t lo = static_cast<std::size_t>(g.row_lo) * g.nx;
   const std::size_t count = static_cast<std::size_t>(g.row_hi - g.row_lo) * g.nx;
-  // 1. The grid's rows zeroed, and the rows each block of particles reaches, a share each; the
-  // chunks cut from those rows.
+  const int row_count = g.row_hi - g.row_lo;
+  std::uint16_t* bits = s.particles.field_bits.data();
+  auto targets = [&](int t) {
+    return t == 0 ? Targets{&g.arrays, &g.arrays, nullptr, bits}
+                  : Targets{&g.arrays, &g.scratch[t - 1], rows.alone.data(), bits};
+  };
+  // 1. The grid's rows zeroed, a share each; the rows each thread's particles reach.
   pool.run([&](int t) {
     clear_nodes(g, g.arrays, lo + pool.begin(count, t), lo + pool.end(count, t));
-    for (std::size_t b = pool.begin(blocks, t); b < pool.end(blocks, t); ++b) {
-      reach(P, g, b * block, std::min((b + 1) * block, n), chunks.block_lo[b], chunks.block_hi[b]);
-    }
+    if (threads) reach(P, g, pool.begin(n, t), pool.end(n, t), rows.lo[t], rows.hi[t]);
   });
-  chunks.cut(blocks);
-  // The chunks, the even ones and then the odd ones, each by scatter(begin, end), taken by the
-  // threads in turn. A row is reached by two neighbouring chunks at most (the cut keeps chunk
-  // k + 2 above chunk k), so what fixes a node's sums is only that the even chunk of each such
-  // pair goes first: one thread takes them as 0, 2, 1, 4, 3, ..., which keeps the rows two
-  // chunks share in cache between them, and adds in the same order as the colours do.
-  auto by_colour = [&](auto&& scatter) {
-    auto chunk = [&](std::size_t k) { scatter(chunks.begin(k, block), chunks.end(k, block, n)); };
-    if (pool.size() == 1) {
-      for (std::size_t k = 0; k < chunks.count; k += 2) {
-        chunk(k);
-        if (k > 0) chunk(k - 1);
-      }
-      if (chunks.count % 2 == 0 && chunks.count > 0) chunk(chunks.count - 1);
-      return;
-    }
-    for (std::size_t colour = 0; colour < 2; ++colour) {
-      std::atomic<std::size_t> next{colour};
-      pool.run([&](int) {
-        for (std::size_t k; (k = next.fetch_add(2, std::memory_order_relaxed)) < chunks.count;) {
-          chunk(k);
-        }
-      });
-    }
-  };
+  if (threads) rows.plan(g.row_lo, g.row_hi);
   // 2. split_fields: the node normals, which pick the field of each particle-node pair.
   if (split) {
-    by_colour([&](std::size_t b, std::size_t e) { run_variant<ScatterNormals>(P, g, b, e); });
-  }
-  // 3. Mass and momentum.
-  by_colour([&](std::size_t b, std::size_t e) {
-    if (split) {
-      run_variant<Scatter<true, false, true>>(P, s.setup, g, b, e, dt);
-    } else {
-      run_loop<Scatter>(s.setup.transfer, s.setup.gradient, P, s.setup, g, b, e, dt);
+    pool.run([&](int t) {
+      if (t > 0) clear_near_rows(g, g.scratch[t - 1], rows, t);
+      const Targets to = targets(t);
+      run_variant<ScatterNormals>(P, g, to, pool.begin(n, t), pool.end(n, t));
+    });
+    if (threads) {
+      pool.run([&](int t) {
+        sum_scratch(g, g.row_lo + static_cast<int>(pool.begin(row_count, t)),
+                    g.row_lo + static_cast<int>(pool.end(row_count, t)), true);
+      });
     }
+  }
+  // 3. Mass and momentum, then the threads' scratch summed in, in a fixed order (thread 1,
+  // 2, ...), so that results do not depend on timing.
+  pool.run([&](int t) {
+    if (t > 0 && !split) clear_near_rows(g, g.scratch[t - 1], rows, t);
+    const std::size_t b = pool.begin(n, t), e = pool.end(n, t);
+    const Targets to = targets(t);
+    if (split) {
+      run_variant<Scatter<true, false, true>>(P, s.setup, g, to, b, e, dt);
+    } else {
+      run_loop<Scatter>(s.setup.transfer, s.setup.gradient, P, s.setup, g, to, b, e, dt);
+    }
+  });
+  if (!threads) return;
+  pool.run([&](int t) {
+    sum_scratch(g, g.row_lo + static_cast<int>(pool.begin(row_count, t)),
+                g.row_lo + static_cast<int>(pool.end(row_count, t)), false);
   });
 }
 

@@ -48,6 +48,8 @@ void build_grid(const SceneParams& p, Grid& g) {
     g.arrays.nodes.assign(2 * nodes, Node{0, 0, 0, 0});
     g.arrays.normal.assign(nodes, NodeNormal{0, 0});
   }
+  g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
+  g.scatter_rows.resize(p.threads, g.ny);
 }
 
 // The unit normal of the pore face nearest to (px, py) in unit cell (cx, cy), pointing from the

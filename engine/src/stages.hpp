@@ -7,8 +7,8 @@
 namespace compaction {
 
 // Particles to grid: mass, momentum and (MLS) stress impulse on the nodes of the rows that can
-// carry mass, in chunks of particles of two colours that threads take in turn
-// (scatter_chunks.hpp); the same bits on any number of threads.
+// carry mass; threads scatter into the grid on their own rows and into their scratch arrays
+// near shared rows, which are then summed (scatter_rows.hpp).
 void p2g(State& s, double dt, ThreadPool& pool);
 
 // Grid velocities from momenta; rigid plates and side walls; the plates' reaction impulses.

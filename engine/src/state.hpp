@@ -9,7 +9,7 @@
 #include "compaction/params.hpp"
 #include "matrix.hpp"
 #include "plasticity.hpp"
-#include "scatter_chunks.hpp"
+#include "scatter_rows.hpp"
 
 namespace compaction {
 
@@ -48,7 +48,7 @@ struct NodeNormal {
   double x, y;
 };
 
-// The node arrays that P2G scatters into.
+// Node arrays that P2G scatters into: one set for the grid, one more per extra thread.
 struct NodeArrays {
   std::vector<Node> nodes;          // nodes[j * nx + i]
   std::vector<double> mx, my;       // pic_flip only: momentum before forces (for v_old)
@@ -62,7 +62,8 @@ struct Grid {
   bool periodic_x = false;
   std::vector<int> col;     // col[base + 1 + k]: node column of stencil column base + k
   NodeArrays arrays;                  // after the grid update: velocities, in place
-  ScatterChunks scatter_chunks;       // how P2G's threads share the particles
+  std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
+  ScatterRows scatter_rows;           // the rows each P2G thread writes alone (T > 1)
   int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
   int cells_x = 0, cells_y = 0;  // grid cells across and along the specimen (map rows: cells_y)
   // split_fields only: nodes holds two fields, the second (particles whose normal opposes the

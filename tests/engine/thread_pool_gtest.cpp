@@ -1,6 +1,7 @@
-// The step's thread pool (engine/src/thread_pool.hpp): every run calls each thread index once
-// and returns only when all are done, including runs that find the threads asleep after a
-// pause.
+// The step's thread pool and the P2G row plan (engine/src/thread_pool.hpp, scatter_rows.hpp):
+// every run calls each thread index once and returns only when all are done, including runs
+// that find the threads asleep after a pause; the plan marks the rows that one thread reaches
+// alone and those near rows that several reach.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "scatter_rows.hpp"
 #include "thread_pool.hpp"
 
 namespace compaction {
@@ -50,6 +52,36 @@ TEST(ThreadPoolGtest, SharesCoverTheItemsOnceInOrder) {
     }
     EXPECT_EQ(next, n);
   }
+}
+
+// Two threads on rows [10, 40): thread 0 reaches [10, 26), thread 1 [24, 40), so rows 24 and
+// 25 are shared; a stencil based at b covers b, b + 1, b + 2.
+TEST(ScatterRowsGtest, PlanMarksOwnAndNearRows) {
+  ScatterRows rows;
+  rows.resize(2, 50);
+  rows.lo = {10, 24}, rows.hi = {26, 40};
+  rows.plan(10, 40);
+  for (int b = 10; b < 38; ++b) {
+    const bool touches_shared = b + 2 >= 24 && b <= 25;
+    EXPECT_EQ(rows.alone[b] != 0, !touches_shared) << b;
+  }
+  for (int r = 10; r < 40; ++r) EXPECT_EQ(rows.near[r] != 0, r >= 22 && r <= 27) << r;
+  EXPECT_TRUE(rows.reaches(0, 25));
+  EXPECT_FALSE(rows.reaches(0, 26));
+  EXPECT_TRUE(rows.reaches(1, 24));
+}
+
+// A later plan with other ranges forgets the earlier one; an empty share reaches nothing.
+TEST(ScatterRowsGtest, PlanStartsAfreshEachStep) {
+  ScatterRows rows;
+  rows.resize(2, 50);
+  rows.lo = {10, 10}, rows.hi = {40, 40};
+  rows.plan(10, 40);
+  EXPECT_FALSE(rows.alone[20]);
+  rows.lo = {10, 0}, rows.hi = {40, 0};
+  rows.plan(10, 40);
+  for (int r = 10; r < 38; ++r) EXPECT_TRUE(rows.alone[r]) << r;
+  for (int r = 10; r < 40; ++r) EXPECT_FALSE(rows.near[r]) << r;
 }
 
 }  // namespace

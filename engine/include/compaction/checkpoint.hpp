@@ -29,7 +29,7 @@ struct CheckpointInfo {
   double t = 0.0;               // simulated time                                     [s]
   double eps = 0.0;             // imposed strain V t / h0                             [-]
   std::int64_t frames = 0;      // frames recorded
-  int threads = 1;              // threads of the run that wrote it (any count: the same bits)
+  int threads = 1;              // threads of the run that wrote it (same count: same bits)
   std::uint64_t bytes = 0;      // size of the file
   double write_seconds = 0.0;   // wall time the write took (0 when read back)
 };
