@@ -17,6 +17,7 @@ table. --cells-per-strut runs another resolution (the coarsest level at which (b
 converged mechanism is 8: docs/reference.md) and writes its own table too.
 """
 import argparse
+import json
 import os
 import sys
 
@@ -45,8 +46,11 @@ def main():
                     help="default docs/validation/solid-fractions.md, or solid-fractions-split-fields.md, "
                          "with -<N>-cells-per-strut before .md at another --cells-per-strut")
     a = ap.parse_args()
-    if not 1 <= a.cells_per_strut <= 40:
-        ap.error("--cells-per-strut: %g is outside 1-40" % a.cells_per_strut)
+    with open(os.path.join(runs.ROOT, "schema", "scene.schema.json")) as f:  # the engine's range
+        cps = json.load(f)["properties"]["cells_per_strut"]
+    if not cps["minimum"] <= a.cells_per_strut <= cps["maximum"]:
+        ap.error("--cells-per-strut: %g is outside %g-%g" % (a.cells_per_strut, cps["minimum"],
+                                                              cps["maximum"]))
     split = a.pore_contact == "split_fields"
     default_cells = a.cells_per_strut == CELLS_PER_STRUT
     suffix = ("-split_fields" if split else "") + ("" if default_cells else "-cps%g" % a.cells_per_strut)
