@@ -6,7 +6,9 @@ const std::vector<Preset>& presets() {
   // Resolution is counted across the thinnest strut, L (1 - sqrt(1 - phi)), so that a preset
   // means the same accuracy at every phi (8, 20 and 40 cells per unit cell at phi = 0.4). The
   // errors are those of docs/validation/solid-fractions-split-fields.md (default) and
-  // docs/reference.md (fast) for the band of example (a).
+  // docs/reference.md (fast) for the band of example (a). The default preset's numbers are the
+  // engine's defaults (SceneParams), which the scene schema serves to the scripts.
+  static const SceneParams engine_default;
   static const std::vector<Preset> all = {
       {"fast", "1.8 cells across a strut (8 per unit cell at phi = 0.4), one velocity field: "
                "about 1/40 of the default's cost; labels (b)-(f) right, (a) comes out as (b)",
@@ -15,7 +17,8 @@ const std::vector<Preset>& presets() {
                   "across closing pores where 3 cells span the thinnest strut (pore_contact auto): "
                   "all six of the paper's labels at phi = 0.4; band speed of (a) within 5 % of "
                   "1/(1 - phi) at phi 0.3-0.6 (+3 % at 0.4)",
-       4.5, 2, 0.5, PoreContact::automatic},
+       engine_default.cells_per_strut, engine_default.particles_per_cell, engine_default.cfl,
+       PoreContact::automatic},
       {"reference", "9 cells across a strut (40 per unit cell at phi = 0.4), the default's pore "
                     "contact at twice its resolution, for convergence checks: about 8x the "
                     "default's cost",

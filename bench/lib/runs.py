@@ -17,6 +17,20 @@ RUN = os.path.join(ROOT, "build", "bin", "compaction-run")
 CLASSIFY = os.path.join(ROOT, "build", "bin", "compaction-classify")
 
 
+def scene_key(key):
+    """A scene key's entry in schema/scene.schema.json (its default and range), which
+    scene_schema_gtest keeps equal to the engine's SceneParams and limits."""
+    with open(os.path.join(ROOT, "schema", "scene.schema.json")) as f:
+        return json.load(f)["properties"][key]
+
+
+def check_cells_per_strut(ap, value):
+    """Exits through the parser when --cells-per-strut is outside the engine's range."""
+    cps = scene_key("cells_per_strut")
+    if not cps["minimum"] <= value <= cps["maximum"]:
+        ap.error("--cells-per-strut: %g is outside %g-%g" % (value, cps["minimum"], cps["maximum"]))
+
+
 def flag_args(flags):
     """A scene's flags as the runner's command-line arguments."""
     return [arg for k, v in flags.items() for arg in ("--" + k.replace("_", "-"), str(v))]

@@ -27,7 +27,7 @@ import runs  # noqa: E402
 from examples import EXAMPLES, PHI  # noqa: E402
 from cells import fmt  # noqa: E402
 
-CELLS_PER_STRUT = 4.5  # the default preset's grid (server/presets.cpp), the study's default
+CELLS_PER_STRUT = runs.scene_key("cells_per_strut")["default"]  # the default preset's grid
 SAME_SPEED = 0.10      # |c_b/V / regular - 1| the summary counts as the same band speed
 
 
@@ -136,8 +136,7 @@ def main():
         ap.error("--seeds: a comma list of non-negative integers, got %r" % a.seeds)
     if not seeds or min(seeds) < 0:
         ap.error("--seeds: a comma list of non-negative integers, got %r" % a.seeds)
-    if not 1 <= a.cells_per_strut <= 50:
-        ap.error("--cells-per-strut: in [1, 50], got %g" % a.cells_per_strut)
+    runs.check_cells_per_strut(ap, a.cells_per_strut)
     examples = [e for e in a.examples.split(",") if e]
     for e in examples:
         if e not in EXAMPLES:

@@ -17,7 +17,6 @@ table. --cells-per-strut runs another resolution (the coarsest level at which (b
 converged mechanism is 8: docs/reference.md) and writes its own table too.
 """
 import argparse
-import json
 import os
 import sys
 
@@ -27,7 +26,7 @@ import runs  # noqa: E402
 from examples import EXAMPLES  # noqa: E402
 from cells import fmt  # noqa: E402
 
-CELLS_PER_STRUT = 4.5  # the default preset (server/presets.cpp)
+CELLS_PER_STRUT = runs.scene_key("cells_per_strut")["default"]  # the engine's, the default preset's
 
 
 def main():
@@ -46,11 +45,7 @@ def main():
                     help="default docs/validation/solid-fractions.md, or solid-fractions-split-fields.md, "
                          "with -<N>-cells-per-strut before .md at another --cells-per-strut")
     a = ap.parse_args()
-    with open(os.path.join(runs.ROOT, "schema", "scene.schema.json")) as f:  # the engine's range
-        cps = json.load(f)["properties"]["cells_per_strut"]
-    if not cps["minimum"] <= a.cells_per_strut <= cps["maximum"]:
-        ap.error("--cells-per-strut: %g is outside %g-%g" % (a.cells_per_strut, cps["minimum"],
-                                                              cps["maximum"]))
+    runs.check_cells_per_strut(ap, a.cells_per_strut)
     split = a.pore_contact == "split_fields"
     default_cells = a.cells_per_strut == CELLS_PER_STRUT
     suffix = ("-split_fields" if split else "") + ("" if default_cells else "-cps%g" % a.cells_per_strut)
