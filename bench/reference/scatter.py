@@ -5,7 +5,7 @@ seeds, pseudo-1D, phi = 0.4, to --eps-end. A level of the converged reference (d
 is converged when its mean moves between levels by less than this scatter; one run per level
 cannot tell (b)'s mechanism change from round-off.
 
-usage: bench/reference/scatter.py --example b [--cells-per-strut 4.5] [--pore-contact auto]
+usage: bench/reference/scatter.py --example b [--cells-per-strut N] [--pore-contact auto]
            [--nu 0.3] [--perturbation 0.01] [--seeds 1,2,3,4] [--no-unperturbed] [--eps-end 0.2]
            [--jobs 2] [--work DIR] [--bin build/bin] [--out FILE]
 
@@ -44,8 +44,8 @@ def positive(kind):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--example", required=True, choices=sorted(EXAMPLES))
-    ap.add_argument("--cells-per-strut", type=positive(float), default=4.5,
-                    help="grid cells across the thinnest strut (the default preset: 4.5)")
+    ap.add_argument("--cells-per-strut", type=float, default=runs.scene_key("cells_per_strut")["default"],
+                    help="grid cells across the thinnest strut [%(default)g, the default preset]")
     ap.add_argument("--pore-contact", default="auto", choices=("auto", "single_field", "split_fields"),
                     help="contact across closing pores (the presets: auto)")
     ap.add_argument("--nu", type=float, default=None,
@@ -63,6 +63,7 @@ def main():
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"))
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
+    runs.check_cells_per_strut(ap, a.cells_per_strut)
     if a.eps_end > 1 - PHI + 1e-12:
         ap.error("--eps-end: at most full density (1 - phi = %g), got %g" % (1 - PHI, a.eps_end))
     seeds = a.seeds
