@@ -78,11 +78,12 @@ def run_all(work, scenes, jobs=1, run=RUN):
     os.makedirs(work, exist_ok=True)
     # The most expensive first (steps ~ cells^3 / S per unit strain), so the last to finish
     # is a cheap one and the lanes stay busy.
+    default_cells = scene_key("cells_per_strut")["default"]
     def cost(item):
         f = item[1]
         phi = float(f.get("phi", 0.4))
         c = float(f.get("cells_per_unit") or
-                  float(f.get("cells_per_strut", 4.5)) / (1 - (1 - min(phi, 0.99)) ** 0.5))
+                  float(f.get("cells_per_strut", default_cells)) / (1 - (1 - min(phi, 0.99)) ** 0.5))
         n = 17 if f.get("geometry") == "full2d" else 1
         return -(c ** 3) * n * float(f.get("eps_end", 0.6)) / float(f["S"])
 

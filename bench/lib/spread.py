@@ -14,6 +14,23 @@ def stats(values):
     return {"n": len(v), "mean": mean, "sd": sd, "min": min(v), "max": max(v)}
 
 
+def ranks(v):
+    order = sorted(range(len(v)), key=lambda i: v[i])
+    out = [0.0] * len(v)
+    for r, i in enumerate(order):
+        out[i] = float(r)
+    return out
+
+
+def spearman(x, y):
+    """Rank correlation (no ties expected): +1 when y rises with x at every step."""
+    rx, ry = ranks(x), ranks(y)
+    n = len(x); m = (n - 1) / 2
+    sxy = sum((a - m) * (b - m) for a, b in zip(rx, ry))
+    sxx = sum((a - m) ** 2 for a in rx)
+    return sxy / sxx if sxx else float("nan")
+
+
 def seed_list(text):
     """argparse type of --seeds: a comma list of whole numbers, at least one, none twice."""
     try:

@@ -27,14 +27,13 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import kept_notes  # noqa: E402
 import runs  # noqa: E402
 import examples  # noqa: E402
+from spread import spearman  # noqa: E402
 
 ROOT = runs.ROOT
 PHI = examples.PHI
 # class: (S, R, eps_end at eps-scale 1): to full density, 1 - phi, as the service runs them.
 EXAMPLES = {k: (S, R, 0.6) for k, (S, R) in examples.EXAMPLES.items()}
-# Fig. 3 line: S = 4e-3 fixed, R rising through class (b): R/S^2 = 0.625 (a) ... 62.5.
-FIG3_S = 4e-3
-FIG3_R = [1e-5, 2e-5, 4e-5, 7e-5, 1e-4, 1.4e-4, 2e-4, 3e-4, 4e-4, 6e-4, 1e-3]
+FIG3_S, FIG3_R = examples.FIG3_S, examples.FIG3_R
 FIG3_EPS = 0.6     # to full density: reflections happen after the band first reaches the bottom
 FULL2D_EPS = 0.2   # 17 times the particles of pseudo-1D: the prereflection band only
 
@@ -63,23 +62,6 @@ def full2d_cells(args):
 
 def fig3_cells(args):
     return [int(x) for x in args.fig3_cells.split(",")] if args.fig3_cells else [args.cells]
-
-
-def ranks(v):
-    order = sorted(range(len(v)), key=lambda i: v[i])
-    out = [0.0] * len(v)
-    for r, i in enumerate(order):
-        out[i] = float(r)
-    return out
-
-
-def spearman(x, y):
-    """Rank correlation (no ties expected): +1 when y rises with x at every step."""
-    rx, ry = ranks(x), ranks(y)
-    n = len(x); m = (n - 1) / 2
-    sxy = sum((a - m) * (b - m) for a, b in zip(rx, ry))
-    sxx = sum((a - m) ** 2 for a in rx)
-    return sxy / sxx if sxx else float("nan")
 
 
 def plan(args, sections):

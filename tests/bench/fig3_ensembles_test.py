@@ -1,0 +1,52 @@
+#!/usr/bin/env python3
+"""bench/validation/fig3_ensembles.py's reading of an ensemble, and the statistics of
+bench/lib/spread.py it uses: a point counts as (b) only when more than half its runs are, the
+rank correlation is +1 exactly when the speeds rise at every step, and --points takes only the
+line's own R values."""
+import argparse
+import os
+import sys
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "bench", "validation"))
+import fig3_ensembles  # noqa: E402
+from spread import spearman, stats  # noqa: E402  (bench/lib, on the path from fig3_ensembles)
+
+
+class Majority(unittest.TestCase):
+    def test_more_than_half(self):
+        self.assertEqual(fig3_ensembles.majority(["b", "b", "a"]), "b")
+        self.assertEqual(fig3_ensembles.majority(["d"]), "d")
+
+    def test_a_tie_is_no_label(self):
+        self.assertEqual(fig3_ensembles.majority(["b", "c"]), "mixed")
+        self.assertEqual(fig3_ensembles.majority(["a", "b", "b", "a"]), "mixed")
+
+
+class Points(unittest.TestCase):
+    def test_line_values_sorted_once(self):
+        self.assertEqual(fig3_ensembles.r_list("4e-4,2e-5,0.0004"), [2e-5, 4e-4])
+
+    def test_other_values_refused(self):
+        for text in ("3e-4,5", "", "x"):
+            with self.assertRaises(argparse.ArgumentTypeError):
+                fig3_ensembles.r_list(text)
+
+
+class Spread(unittest.TestCase):
+    def test_spearman(self):
+        x = [1.0, 2.0, 3.0, 4.0]
+        self.assertEqual(spearman(x, [1.5, 1.6, 2.0, 9.0]), 1.0)
+        self.assertEqual(spearman(x, [9.0, 2.0, 1.6, 1.5]), -1.0)
+        self.assertLess(spearman(x, [1.5, 2.0, 1.6, 9.0]), 1.0)
+
+    def test_stats_of_one_and_of_several(self):
+        self.assertIsNone(stats([1.9])["sd"])
+        st = stats([1.0, None, 3.0, float("nan")])
+        self.assertEqual((st["n"], st["mean"], st["sd"]), (2, 2.0, 2 ** 0.5))
+        self.assertIsNone(stats([None]))
+
+
+if __name__ == "__main__":
+    unittest.main()
