@@ -171,6 +171,31 @@ double peak_jump(const SpaceTimeMap& m, double unit_cell, double abs_threshold) 
   return median(jumps);
 }
 
+// The largest strut deflection when the plastic fraction reaches yield_fraction, between the
+// last elastic frame fy - 1 and the yield frame fy. An elastic instability grows by decades
+// within a frame (1.6 decades per 0.002 of strain in example (f) at 8 cells across a strut), so
+// the last elastic frame can read far below the deflection with which the struts yield. The
+// deflection is carried on from that frame at its own growth rate over the frame before it, up
+// to the strain where the plastic fraction (linear between the frames) reaches yield_fraction,
+// and never beyond the yield frame's deflection. A deflection that was not growing stays as the
+// last elastic frame has it, and one growing slowly from round-off stays near it.
+double deflection_at_yield(const std::vector<Frame>& fr, int fy, const FeatureSettings& s) {
+  const Frame& last = fr[fy - 1];
+  if (fy < 2 || !(last.max_deflection > s.deflection_floor)) return last.max_deflection;
+  const Frame& prev = fr[fy - 2];
+  const Frame& yield = fr[fy];
+  const double rate = std::log10(last.max_deflection /
+                                 std::max(prev.max_deflection, s.deflection_floor)) /
+                      (last.eps - prev.eps);  // decades per unit strain
+  if (!(rate > 0) || !(yield.eps > last.eps)) return last.max_deflection;
+  const double rise = yield.plastic_fraction - last.plastic_fraction;
+  const double share =
+      rise > 0 ? std::clamp((s.yield_fraction - last.plastic_fraction) / rise, 0.0, 1.0) : 1.0;
+  const double carried =
+      last.max_deflection * std::pow(10.0, rate * share * (yield.eps - last.eps));
+  return std::max(last.max_deflection, std::min(carried, yield.max_deflection));
+}
+
 // First yield and the growth of the strut deflection before it; returns the frame of first
 // yield (-1: none).
 int strut_features(const std::vector<Frame>& fr, const FeatureSettings& s, Features& F) {
@@ -182,7 +207,7 @@ int strut_features(const std::vector<Frame>& fr, const FeatureSettings& s, Featu
   if (fy > 0) {
     const double before = std::max(fr[fy - 1].max_deflection, s.deflection_floor);
     const double base = std::max(fr[0].max_deflection, s.deflection_floor);
-    F.deflection_before_yield = fr[fy - 1].max_deflection;
+    F.deflection_before_yield = deflection_at_yield(fr, fy, s);
     F.deflection_growth = std::log10(before / base);
   }
   return fy;

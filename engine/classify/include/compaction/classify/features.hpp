@@ -45,7 +45,9 @@ struct Features {
   double deflection_growth = 0.0;    // log10 of the growth of the largest strut deflection from
                                      // the first frame to the one before first yield (floored)
                                      //                                             [decades]
-  double deflection_before_yield = 0.0;  // max strut deflection just before first yield [thickness]
+  double deflection_before_yield = 0.0;  // max strut deflection as first yield is reached:
+                                         // the last elastic frame's, carried on at its growth
+                                         // rate to where yield_fraction is crossed [thickness]
 
   // Shown only (no rule reads them).
   int n_fronts = 0;                  // propagating fronts (travel >= min_travel)
