@@ -80,9 +80,10 @@ def main():
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
     runs.check_cells_per_strut(ap, a.cells_per_strut)
-    if not 0 < a.perturbation <= runs.scene_key("perturbation")["maximum"]:
+    max_perturbation = runs.scene_key("perturbation")["maximum"]
+    if not 0 < a.perturbation <= max_perturbation:
         ap.error("--perturbation: in (0, %g], got %g: the unperturbed lattice runs (b)'s symmetric "
-                 "band (docs/reference.md)" % (runs.scene_key("perturbation")["maximum"], a.perturbation))
+                 "band (docs/reference.md)" % (max_perturbation, a.perturbation))
     if not 0 < a.eps_end <= 1 - PHI + 1e-12:
         ap.error("--eps-end: in (0, %g] (full density), got %g" % (1 - PHI, a.eps_end))
     if a.jobs < 1:
@@ -170,6 +171,7 @@ def main():
     else:
         lines += ["Fewer than two points labelled (b): no check.", ""]
 
+    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)  # the table's and plot's
     png = os.path.splitext(a.out)[0] + ".png"
     try:
         import matplotlib
@@ -198,14 +200,12 @@ def main():
                        mfc="C2" if p["label"] == "b" else "white")
         ax[1].set_xscale("log"); ax[1].set_xlabel("q_y/(rho V^2)"); ax[1].set_ylabel("N_r")
         fig.tight_layout()
-        os.makedirs(os.path.dirname(os.path.abspath(png)), exist_ok=True)
         fig.savefig(png, dpi=90)
         plt.close(fig)
         lines += ["![Fig. 3 line at %g cells across a strut](%s)" % (a.cells_per_strut, os.path.basename(png)),
                   "", "Error bars: the standard deviation over the seeds (one seed: the run's own "
                   "uncertainty). Hollow markers: the point's label is not (b). Dashed: "
                   "1/(1 - phi_discrete).", ""]
-    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
