@@ -138,9 +138,7 @@ def main():
     lines += ["", "Snapshots at eps = 0.18 (plastic strain rate, the compacted zone above the "
               "front): %s/<run>.png, e.g. `a-c20-single_field.png` and `a-c20-split_fields.png`."
               % os.path.relpath(images, os.path.dirname(os.path.abspath(a.out)))]
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    with open(a.out, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
+    runs.write_report(a.out, lines, echo=False)
     print("wrote", a.out)
 
 

@@ -31,6 +31,18 @@ def check_cells_per_strut(ap, value):
         ap.error("--cells-per-strut: %g is outside %g-%g" % (value, cps["minimum"], cps["maximum"]))
 
 
+def write_report(path, lines, echo=True):
+    """Writes a study's Markdown report (its lines, a newline at the end) to `path`, making its
+    folder, and prints it unless `echo` is false."""
+    text = "\n".join(lines) + "\n"
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    with open(path, "w") as f:
+        f.write(text)
+    if echo:
+        print(text, end="", flush=True)
+
+
 def flag_args(flags):
     """A scene's flags as the runner's command-line arguments."""
     return [arg for k, v in flags.items() for arg in ("--" + k.replace("_", "-"), str(v))]

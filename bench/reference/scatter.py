@@ -130,10 +130,7 @@ def main():
             title, fmt(st["mean"]), fmt(st["sd"], 2), fmt(st["min"]), fmt(st["max"]),
             "-" if st["sd"] is None else "%.1f %%" % (100 * st["sd"] / st["mean"]), fmt(u),
             "-" if u is None else "%+.1f %%" % (100 * (u / st["mean"] - 1))))
-    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    runs.write_report(a.out, lines)
 
 
 if __name__ == "__main__":

@@ -126,9 +126,7 @@ def report(a, examples, cells_list, classify_bin):
               % (round(100 * SAME_SPEED), same, compared)]
     if missing:
         lines += ["", "Not run yet: %s." % ", ".join(missing)]
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines), flush=True)
+    runs.write_report(a.out, lines)
 
 
 def main():

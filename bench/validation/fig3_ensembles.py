@@ -206,9 +206,7 @@ def main():
                   "", "Error bars: the standard deviation over the seeds (one seed: the run's own "
                   "uncertainty). Hollow markers: the point's label is not (b). Dashed: "
                   "1/(1 - phi_discrete).", ""]
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    runs.write_report(a.out, lines)
 
 
 if __name__ == "__main__":

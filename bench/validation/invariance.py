@@ -134,9 +134,7 @@ def write_report(path, lines, resolutions, failures, what):
             "%s gives the reference material's pattern." % what if not failures[cps] else
             "differs from the reference material: " + "; ".join(failures[cps]) + ".")))
     lines.append("")
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    runs.write_report(path, lines)
     return 1 if failures[max(resolutions)] else 0
 
 

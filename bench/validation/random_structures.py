@@ -113,9 +113,7 @@ def report(a, examples, seeds, classify_bin):
               % (same_label, compared, round(100 * SAME_SPEED), same_speed, speeds)]
     if missing:
         lines += ["", "Not run yet: %s." % ", ".join(missing)]
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines), flush=True)
+    runs.write_report(a.out, lines)
 
 
 def main():

@@ -116,9 +116,7 @@ def main():
                   "an earlier machine, whose bundles are not in --work." % kept]
     if missing:
         lines += ["", "Not run yet: " + ", ".join(missing) + "."]
-    with open(a.out, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    runs.write_report(a.out, lines)
 
 
 if __name__ == "__main__":
