@@ -116,8 +116,9 @@ def line_fit(xs, ys):
 
 def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
     """The first leg over frames (eps, particle heights), in order of strain, with the edge read
-    at `level`: c_b/V from the edge's heights with the fit's standard error, the compacted
-    zone's phi_f (mean and standard deviation over the leg's frames), the leg's strain range,
+    at `level`: c_b/V from the edge's heights with the fit's standard error, over the whole leg
+    and over its frames in the column's upper half (the early stage, before a band that changes
+    speed on its way has done so), the compacted zone's phi_f (mean and standard deviation over the leg's frames), the leg's strain range,
     frame count and what ended it. None values where the movie has no leg of three frames."""
     L = h0 / rows
     eps_leg, y_leg, zones = [], [], []
@@ -148,8 +149,12 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
         if hi - lo >= L:
             zones.append(zone_fraction(y, n, rows, h0, phi, lo, hi))
     slope, err = line_fit(eps_leg, y_leg)
+    upper = [(e, yf) for e, yf in zip(eps_leg, y_leg) if yf >= h0 / 2]
+    up_slope, up_err = line_fit([e for e, _ in upper], [yf for _, yf in upper])
     return {"speed": None if slope is None else -slope / h0,
             "speed_err": None if err is None else err / h0,
+            "upper": None if up_slope is None else -up_slope / h0,
+            "upper_err": None if up_err is None else up_err / h0,
             "phi_f": statistics.fmean(zones) if zones else None,
             "phi_f_sd": statistics.stdev(zones) if len(zones) > 1 else None,
             "eps": (eps_leg[0], eps_leg[-1]) if eps_leg else None, "frames": len(eps_leg),
@@ -173,11 +178,13 @@ def read_bundle(out, classify_bin):
 
 
 def leg_cells(leg):
-    """A leg's speed and its strain range, frames and end, as two table cells."""
-    if leg["speed"] is None:
-        return ["-", "-" if leg["eps"] is None else "%d frames, %s" % (leg["frames"], leg["end"])]
-    return ["%s +- %s" % (fmt(leg["speed"]), fmt(leg["speed_err"], 2)),
-            "%.2f-%.2f (%d), %s" % (leg["eps"] + (leg["frames"], leg["end"]))]
+    """A leg's speed over the whole leg and over its upper half, and its strain range, frames
+    and end, as three table cells."""
+    def speed(v, err):
+        return "-" if v is None else "%s +- %s" % (fmt(v), fmt(err, 2))
+    span = ("-" if leg["eps"] is None else
+            "%.2f-%.2f (%d), %s" % (leg["eps"] + (leg["frames"], leg["end"])))
+    return [speed(leg["speed"], leg["speed_err"]), speed(leg["upper"], leg["upper_err"]), span]
 
 
 def main():
@@ -206,15 +213,16 @@ def main():
         "once its solid fraction has risen by 1/8 (and, second reading, by 1/4). c_b/V: a straight "
         "line through the edge's heights over the first leg (the movie's frames, every 0.02 of "
         "strain, from the edge 2 L below the plate's start until it is within 2 L of the bottom "
-        "plate, the band is lost, or compaction begins ahead of it), +- the fit's standard error. "
+        "plate, the band is lost, or compaction begins ahead of it), +- the fit's standard error; "
+        "upper half: the same over the leg's frames whose edge is in the column's upper half. "
         "phi_f: the solid fraction between L above the 1/8 edge and L below the plate, mean +- sd "
         "over that leg's frames; mass balance of a band that leaves its zone at phi_f: "
         "1/(1 - phi/phi_f). Classifier readings (fit, transit) as in docs/classifier.md. Method: "
         "the script's docstring." % " ".join(sys.argv[1:]), "",
         "| run | R/S^2 | cells across a strut | perturbation | label | c_b/V fit | c_b/V transit | "
-        "c_b/V edge 1/8 | its leg: eps (frames), ended by | c_b/V edge 1/4 | its leg | phi_f | "
-        "1/(1 - phi/phi_f) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        "c_b/V edge 1/8 | upper half | its leg: eps (frames), ended by | c_b/V edge 1/4 | "
+        "upper half | its leg | phi_f | 1/(1 - phi/phi_f) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         c, p, leg = r["classifier"], r["params"], r["legs"][0]
         mass = (1 / (1 - r["phi"] / leg["phi_f"]) if leg["phi_f"] and leg["phi_f"] > r["phi"]
