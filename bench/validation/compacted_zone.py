@@ -118,8 +118,9 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
     """The first leg over frames (eps, particle heights), in order of strain, with the edge read
     at `level`: c_b/V from the edge's heights with the fit's standard error, over the whole leg
     and over its frames in the column's upper half (the early stage, before a band that changes
-    speed on its way has done so), the compacted zone's phi_f (mean and standard deviation over the leg's frames), the leg's strain range,
-    frame count and what ended it. None values where the movie has no leg of three frames."""
+    speed on its way has done so); the compacted zone's phi_f (mean and standard deviation over
+    the leg's frames); the leg's strain range, frame count and what ended it. None values where
+    the movie has no leg of three frames."""
     L = h0 / rows
     eps_leg, y_leg, zones = [], [], []
     previous, end = None, "the movie's end"
@@ -189,7 +190,8 @@ def leg_cells(leg):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("bundles", nargs="+", help="run bundles (folders with summary.json and movie.bin)")
+    ap.add_argument("bundles", nargs="+",
+                    help="run bundles (folders with summary.json and movie.bin)")
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"),
                     help="folder of the compaction-classify that reads the bands [build/bin]")
     ap.add_argument("--out", help="write the report here as well as to stdout")
@@ -208,7 +210,8 @@ def main():
 
     lines = [
         "# The first band read from the particles", "",
-        "Made by `bench/validation/compacted_zone.py %s`. The band's edge: where the material, read "
+        "Made by `bench/validation/compacted_zone.py %s`. The band's edge: where the material, "
+        "read "
         "from the plate down, stops compacting, a window of two unit cells counting as compacting "
         "once its solid fraction has risen by 1/8 (and, second reading, by 1/4). c_b/V: a straight "
         "line through the edge's heights over the first leg (the movie's frames, every 0.02 of "
@@ -231,7 +234,8 @@ def main():
             [r["run"], "%.3g" % (p["R"] / p["S"] ** 2), "%.2f" % r["grid"]["cells_per_strut"],
              "%g" % p["perturbation"], "%s (%s)" % (c["label"], fmt(c["confidence"], 2)),
              fmt(c["fit"]), fmt(c["transit"])] + leg_cells(leg) + leg_cells(r["legs"][1]) +
-            ["-" if leg["phi_f"] is None else "%.3f +- %s" % (leg["phi_f"], fmt(leg["phi_f_sd"], 2)),
+            ["-" if leg["phi_f"] is None else
+             "%.3f +- %s" % (leg["phi_f"], fmt(leg["phi_f_sd"], 2)),
              fmt(mass)]) + " |")
     lines.append("")
     if a.out:
