@@ -159,7 +159,7 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
             "phi_f": statistics.fmean(zones) if zones else None,
             "phi_f_sd": statistics.stdev(zones) if len(zones) > 1 else None,
             "eps": (eps_leg[0], eps_leg[-1]) if eps_leg else None, "frames": len(eps_leg),
-            "end": end}
+            "end": end, "path": list(zip(eps_leg, y_leg))}
 
 
 def read_bundle(out, classify_bin):
@@ -188,13 +188,48 @@ def leg_cells(leg):
     return [speed(leg["speed"], leg["speed_err"]), speed(leg["upper"], leg["upper_err"]), span]
 
 
+def plot(results, png):
+    """The edges' paths and the speeds against R/S^2 into `png`; False without matplotlib."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import matplotlib.ticker
+    except ImportError:
+        return False
+    os.makedirs(os.path.dirname(os.path.abspath(png)), exist_ok=True)
+    fig, ax = plt.subplots(1, 2, figsize=(8, 3.2))
+    for r in sorted(results, key=lambda r: r["params"]["R"] / r["params"]["S"] ** 2):
+        leg, p = r["legs"][1], r["params"]
+        x = p["R"] / p["S"] ** 2
+        if leg["path"]:
+            ax[0].plot([e for e, _ in leg["path"]], [y for _, y in leg["path"]], ".-", ms=3,
+                       label="%s (%.3g)" % (r["classifier"]["label"], x))
+        if leg["upper"] is not None:
+            ax[1].errorbar([x], [leg["upper"]], yerr=[leg["upper_err"]], fmt="o", c="C0", ms=4)
+        if r["classifier"]["fit"] is not None:
+            ax[1].plot([x], [r["classifier"]["fit"]], "o", mfc="white", mec="C1", ms=4)
+    ax[0].set_xlabel("eps"); ax[0].set_ylabel("edge height / h0")
+    ax[0].legend(fontsize=6, title="label (R/S^2)", title_fontsize=6)
+    ax[1].axhline(1 / (1 - results[0]["phi"]), ls="--", c="gray", lw=0.8)
+    ax[1].set_xscale("log"); ax[1].set_yscale("log")
+    ax[1].yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    ax[1].yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
+    ax[1].set_xlabel("q_y/(rho V^2)"); ax[1].set_ylabel("c_b/V")
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+    return True
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("bundles", nargs="+",
                     help="run bundles (folders with summary.json and movie.bin)")
     ap.add_argument("--bin", default=os.path.join(runs.ROOT, "build", "bin"),
                     help="folder of the compaction-classify that reads the bands [build/bin]")
-    ap.add_argument("--out", help="write the report here as well as to stdout")
+    ap.add_argument("--out", help="write the report here as well as to stdout, and its plot beside "
+                                   "it (.png, where matplotlib is installed)")
     a = ap.parse_args()
     classify_bin = os.path.join(a.bin, "compaction-classify")
     if not os.access(classify_bin, os.X_OK):
@@ -238,6 +273,12 @@ def main():
              "%.3f +- %s" % (leg["phi_f"], fmt(leg["phi_f_sd"], 2)),
              fmt(mass)]) + " |")
     lines.append("")
+    if a.out and plot(results, os.path.splitext(a.out)[0] + ".png"):
+        lines += ["![The first band's edge](%s)" % (os.path.splitext(os.path.basename(a.out))[0]
+                                                   + ".png"), "",
+                  "Left: the edge (1/4 level) over each run's first leg; right: c_b/V against "
+                  "R/S^2, the edge's speed over the leg's upper half (filled) and the "
+                  "classifier's fit (hollow); dashed: 1/(1 - phi_discrete).", ""]
     if a.out:
         runs.write_report(a.out, lines)
     else:
