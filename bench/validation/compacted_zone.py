@@ -58,7 +58,7 @@ def deficit(y_sorted, n, rows, h0):
 
 def front_height(yj, d, y_from, y_top, level=COMPACTING[0]):
     """The lower edge of the band whose previous edge was at y_from (the plate, y_top, at the
-    first frame), and whether compaction has begun ahead of it.
+    first frame), and where compaction has begun ahead of it.
 
     A window of two unit cells [y_{j-2}, y_j] is compacting when the material at its top has
     come down by `level` rows or more relative to that at its bottom (D_{j-2} - D_j >= level;
@@ -69,7 +69,8 @@ def front_height(yj, d, y_from, y_top, level=COMPACTING[0]):
     the band's last compacting window meets the next quiet one (linear in D_{j-2} - D_j),
     reported at the window's centre; 0, the bottom plate, when the band reaches it. Compacting
     windows further down are compaction ahead of the band (rows collapsing on their own, or a
-    band from the bottom plate). Returns (edge, ahead), or None when no band starts there."""
+    band from the bottom plate). Returns (edge, ahead): ahead is the centre of the highest such
+    window, None when there is none; or None when no band starts there."""
     L = yj[1] - yj[0]
     rise = [math.nan] * 2 + [d[j - 2] - d[j] for j in range(2, len(d))]  # across [y_{j-2}, y_j]
     start = min(y_from + 2 * L, y_top)
@@ -82,11 +83,11 @@ def front_height(yj, d, y_from, y_top, level=COMPACTING[0]):
     for k in range(first + 1, len(scan)):
         if compacting[k]:
             if k - last - 1 > GAP:
-                return edge_at(yj, rise, scan, last, level), True
+                return edge_at(yj, rise, scan, last, level), yj[scan[k]] - L
             last = k
     if last == len(scan) - 1:
-        return 0.0, False
-    return edge_at(yj, rise, scan, last, level), False
+        return 0.0, None
+    return edge_at(yj, rise, scan, last, level), None
 
 
 def edge_at(yj, rise, scan, last, level):
@@ -119,11 +120,12 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
     at `level`: c_b/V from the edge's heights with the fit's standard error, over the whole leg
     and over its frames in the column's upper half (the early stage, before a band that changes
     speed on its way has done so); the compacted zone's phi_f (mean and standard deviation over
-    the leg's frames); the leg's strain range, frame count and what ended it. None values where
-    the movie has no leg of three frames."""
+    the leg's frames); the leg's strain range, frame count and what ended it (with the height
+    of the compaction ahead of the band, where that ended it). None values where the movie has
+    no leg of three frames."""
     L = h0 / rows
     eps_leg, y_leg, zones = [], [], []
-    previous, end = None, "the movie's end"
+    previous, end, ahead_at = None, "the movie's end", None
     for eps, y in frames:
         y = sorted(y)
         y_top = h0 * (1 - eps)
@@ -138,8 +140,8 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
         previous = yf
         if yf > h0 - EDGE_ROWS * L:
             continue  # still forming
-        if ahead:
-            end = "compaction ahead of the band"
+        if ahead is not None:
+            end, ahead_at = "compaction ahead of the band, at %.2f h0" % (ahead / h0), ahead
             break
         if yf < EDGE_ROWS * L:
             end = "the bottom plate"
@@ -159,7 +161,7 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
             "phi_f": statistics.fmean(zones) if zones else None,
             "phi_f_sd": statistics.stdev(zones) if len(zones) > 1 else None,
             "eps": (eps_leg[0], eps_leg[-1]) if eps_leg else None, "frames": len(eps_leg),
-            "end": end, "path": list(zip(eps_leg, y_leg))}
+            "end": end, "ahead_at": ahead_at, "path": list(zip(eps_leg, y_leg))}
 
 
 def read_bundle(out, classify_bin):
