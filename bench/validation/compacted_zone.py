@@ -191,7 +191,8 @@ def leg_cells(leg):
 
 
 def plot(results, png):
-    """The edges' paths and the speeds against R/S^2 into `png`; False without matplotlib."""
+    """The edges' paths and the speeds against R/S^2 into `png`, a colour per resolution and
+    perturbation; False without matplotlib."""
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -200,19 +201,26 @@ def plot(results, png):
     except ImportError:
         return False
     os.makedirs(os.path.dirname(os.path.abspath(png)), exist_ok=True)
+    groups = sorted({(round(r["grid"]["cells_per_strut"], 2), r["params"]["perturbation"])
+                     for r in results})
+    colour = {g: "C%d" % i for i, g in enumerate(groups)}
     fig, ax = plt.subplots(1, 2, figsize=(8, 3.2))
-    for r in sorted(results, key=lambda r: r["params"]["R"] / r["params"]["S"] ** 2):
-        leg, p = r["legs"][1], r["params"]
-        x = p["R"] / p["S"] ** 2
+    for r in results:
+        p = r["params"]
+        g = (round(r["grid"]["cells_per_strut"], 2), p["perturbation"])
+        x, c = p["R"] / p["S"] ** 2, colour[g]
+        leg = r["legs"][1] if r["legs"][1]["upper"] is not None else r["legs"][0]
         if leg["path"]:
-            ax[0].plot([e for e, _ in leg["path"]], [y for _, y in leg["path"]], ".-", ms=3,
-                       label="%s (%.3g)" % (r["classifier"]["label"], x))
+            ax[0].plot([e for e, _ in leg["path"]], [y for _, y in leg["path"]], "-", c=c, lw=0.8)
         if leg["upper"] is not None:
-            ax[1].errorbar([x], [leg["upper"]], yerr=[leg["upper_err"]], fmt="o", c="C0", ms=4)
+            ax[1].errorbar([x], [leg["upper"]], yerr=[leg["upper_err"]], c=c, ms=4,
+                           fmt="o" if leg is r["legs"][1] else "^")
         if r["classifier"]["fit"] is not None:
-            ax[1].plot([x], [r["classifier"]["fit"]], "o", mfc="white", mec="C1", ms=4)
+            ax[1].plot([x], [r["classifier"]["fit"]], "o", mfc="white", mec=c, ms=4)
+    for g in groups:
+        ax[0].plot([], [], "-", c=colour[g], label="%g cells, perturbation %g" % g)
     ax[0].set_xlabel("eps"); ax[0].set_ylabel("edge height / h0")
-    ax[0].legend(fontsize=6, title="label (R/S^2)", title_fontsize=6)
+    ax[0].legend(fontsize=6)
     ax[1].axhline(1 / (1 - results[0]["phi"]), ls="--", c="gray", lw=0.8)
     ax[1].set_xscale("log"); ax[1].set_yscale("log")
     ax[1].yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
@@ -278,9 +286,11 @@ def main():
     if a.out and plot(results, os.path.splitext(a.out)[0] + ".png"):
         lines += ["![The first band's edge](%s)" % (os.path.splitext(os.path.basename(a.out))[0]
                                                    + ".png"), "",
-                  "Left: the edge (1/4 level) over each run's first leg; right: c_b/V against "
-                  "R/S^2, the edge's speed over the leg's upper half (filled) and the "
-                  "classifier's fit (hollow); dashed: 1/(1 - phi_discrete).", ""]
+                  "Left: the edge (1/4 level; 1/8 where a run has no 1/4 edge) over each run's "
+                  "first leg; right: c_b/V against R/S^2, the edge's speed over the leg's upper "
+                  "half (filled circles; triangles: the 1/8 edge) and the classifier's fit "
+                  "(hollow). Colours: resolution (cells across a strut) and perturbation. "
+                  "Dashed: 1/(1 - phi_discrete).", ""]
     if a.out:
         runs.write_report(a.out, lines)
     else:
