@@ -6,23 +6,23 @@ the paragraph before its Fig. 3).
 
 usage: bench/validation/compacted_zone.py BUNDLE... [--bin build/bin] [--out FILE]
 
-Each bundle needs its movie.bin (schema/movie-format.md; every run since engine 0.2.1 writes
-one at eps steps of 0.02). In each movie frame the particles' heights give the count C(y) of
-particles above y. On the reference lattice C is known at the mid-height of every unit-cell
-row, (rows - j - 1/2) particles-per-row at y = (j + 1/2) L, and stays so where the material has
-not moved (to the elastic precursor's 0.01-0.05 of a row). The deficit D = (C - C_ref) /
+Each bundle needs its movie.bin (schema/movie-format.md; every run since engine 0.2.1 writes one
+at eps steps of 0.02). In each movie frame the particles' heights give the count C(y) of
+particles above y. On the reference lattice C is known at the mid-height of every unit-cell row,
+(rows - j - 1/2) particles-per-row at y = (j + 1/2) L, and stays so where the material has not
+moved (to the elastic precursor's 0.01-0.05 of a row). The deficit D = (C - C_ref) /
 particles-per-row counts, in unit-cell rows, how far the material above y has come down, and
 D_{j-2} - D_j how much the two rows below y_j have shortened. The band's edge is where that
-shortening, read from the plate down, falls below a level (front_height: 1/4 of a row, the
-solid fraction up by 1/8, and 1/2 as a second reading); rows collapsing further down are
-compaction ahead of the band. Over the first leg (the edge 2 L below the plate's start, until
-it is within 2 L of the bottom plate, is lost, or compaction begins ahead of it) a straight
-line through the edge's heights gives c_b/V = -(dy_f / d eps) / h0, with its standard error.
-The compacted zone is what lies between L above the edge and L below the plate; its solid
-fraction phi_f is phi_discrete times its particles over those of the same height of reference
-lattice, averaged over the leg's frames. Where a band compacts its zone to phi_f in one step and
-the material ahead is at rest, mass conservation gives c_b/V = 1/(1 - phi/phi_f): a band that
-leaves its zone denser runs slower, and both levels read the same edge speed.
+shortening, read from the plate down, falls below a level (front_height: 1/4 of a row, a
+shortening of the two rows by 1/8, and 1/2, by 1/4, as a second reading); rows collapsing
+further down are compaction ahead of the band. Over the first leg (the edge 2 L below the
+plate's start, until it is within 2 L of the bottom plate, is lost, or compaction begins ahead
+of it) a straight line through the edge's heights gives c_b/V = -(dy_f / d eps) / h0, with its
+standard error. The compacted zone is what lies between L above the edge and L below the plate;
+its solid fraction phi_f is phi_discrete times its particles over those of the same height of
+reference lattice, averaged over the leg's frames. Where a band compacts its zone to phi_f in
+one step and the material ahead is at rest, mass conservation gives c_b/V = 1/(1 - phi/phi_f): a
+band that leaves its zone denser runs slower, and both levels read the same edge speed.
 """
 import argparse
 import bisect
@@ -36,8 +36,8 @@ import runs  # noqa: E402
 from cells import fmt  # noqa: E402
 from movie import Movie  # noqa: E402
 
-# A window of two rows is compacting from a quarter row of shortening on (its solid fraction up
-# by an eighth); the band's edge is read at this level and at twice it. A band that compacts
+# A window of two rows is compacting from a quarter row of shortening on (1/8 of its length:
+# the "1/8 level"); the band's edge is read at this level and at twice it (the "1/4 level"). A band that compacts
 # the material in one step gives both the same speed; where rows yield ahead of the band and
 # compact part-way before it arrives, the lower level reads the faster, earlier edge.
 COMPACTING = (0.25, 0.5)
@@ -62,7 +62,7 @@ def front_height(yj, d, y_from, y_top, level=COMPACTING[0]):
 
     A window of two unit cells [y_{j-2}, y_j] is compacting when the material at its top has
     come down by `level` rows or more relative to that at its bottom (D_{j-2} - D_j >= level;
-    1/4: its solid fraction up by an eighth). Reading downwards from 2 L above y_from (at most
+    1/4: shortened by 1/8 of its length). Reading downwards from 2 L above y_from (at most
     the plate), the band is the first compacting window above y_from - 2 L and those that follow
     it with gaps of at most two quiet windows (a row that has not collapsed yet between two that
     have); quiet windows before it are material carried along with the plate. The edge is where
@@ -258,7 +258,7 @@ def main():
         "Made by `bench/validation/compacted_zone.py %s`. The band's edge: where the material, "
         "read "
         "from the plate down, stops compacting, a window of two unit cells counting as compacting "
-        "once its solid fraction has risen by 1/8 (and, second reading, by 1/4). c_b/V: a straight "
+        "once it has shortened by 1/8 (and, second reading, by 1/4). c_b/V: a straight "
         "line through the edge's heights over the first leg (the movie's frames, every 0.02 of "
         "strain, from the edge 2 L below the plate's start until it is within 2 L of the bottom "
         "plate, the band is lost, or compaction begins ahead of it), +- the fit's standard error; "
