@@ -14,6 +14,21 @@ def stats(values):
     return {"n": len(v), "mean": mean, "sd": sd, "min": min(v), "max": max(v)}
 
 
+def line_fit(xs, ys):
+    """Least-squares slope of ys on xs and its standard error: (None, None) with fewer than two
+    points, the error None with two."""
+    n = len(xs)
+    if n < 2:
+        return None, None
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    if n < 3:
+        return slope, None
+    resid = sum((y - my - slope * (x - mx)) ** 2 for x, y in zip(xs, ys))
+    return slope, math.sqrt(resid / (n - 2) / sxx)
+
+
 def ranks(v):
     order = sorted(range(len(v)), key=lambda i: v[i])
     out = [0.0] * len(v)

@@ -35,11 +35,13 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 from cells import fmt  # noqa: E402
 from movie import Movie  # noqa: E402
+from spread import line_fit  # noqa: E402
 
 # A window of two rows is compacting from a quarter row of shortening on (1/8 of its length:
-# the "1/8 level"); the band's edge is read at this level and at twice it (the "1/4 level"). A band that compacts
-# the material in one step gives both the same speed; where rows yield ahead of the band and
-# compact part-way before it arrives, the lower level reads the faster, earlier edge.
+# the "1/8 level"); the band's edge is read at this level and at twice it (the "1/4 level"). A
+# band that compacts the material in one step gives both the same speed; where rows yield ahead
+# of the band and compact part-way before it arrives, the lower level reads the faster, earlier
+# edge.
 COMPACTING = (0.25, 0.5)
 GAP = 2          # quiet windows a band may hold between compacting ones
 EDGE_ROWS = 2    # the first leg: the edge 2 L from either plate's start
@@ -104,15 +106,13 @@ def zone_fraction(y_sorted, n, rows, h0, phi, lo, hi):
     return phi * inside / (n / rows * (hi - lo) / (h0 / rows))
 
 
-def line_fit(xs, ys):
-    """Least-squares slope and its standard error (None, None with fewer than three points)."""
-    if len(xs) < 3:
+def leg_fit(points):
+    """c_b/V of an edge moving down through (eps, height / h0) points, minus their least-squares
+    slope, and its standard error; (None, None) with fewer than three points."""
+    if len(points) < 3:
         return None, None
-    xm, ym = statistics.fmean(xs), statistics.fmean(ys)
-    sxx = sum((x - xm) ** 2 for x in xs)
-    slope = sum((x - xm) * (y - ym) for x, y in zip(xs, ys)) / sxx
-    resid = sum((y - ym - slope * (x - xm)) ** 2 for x, y in zip(xs, ys))
-    return slope, math.sqrt(resid / (len(xs) - 2) / sxx)
+    slope, err = line_fit([e for e, _ in points], [y for _, y in points])
+    return -slope, err
 
 
 def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
@@ -151,17 +151,14 @@ def first_leg(frames, n, rows, h0, phi, level=COMPACTING[0]):
         lo, hi = yf + ZONE_MARGIN * L, y_top - ZONE_MARGIN * L
         if hi - lo >= L:
             zones.append(zone_fraction(y, n, rows, h0, phi, lo, hi))
-    slope, err = line_fit(eps_leg, y_leg)
-    upper = [(e, yf) for e, yf in zip(eps_leg, y_leg) if yf >= h0 / 2]
-    up_slope, up_err = line_fit([e for e, _ in upper], [yf for _, yf in upper])
-    return {"speed": None if slope is None else -slope / h0,
-            "speed_err": None if err is None else err / h0,
-            "upper": None if up_slope is None else -up_slope / h0,
-            "upper_err": None if up_err is None else up_err / h0,
+    path = list(zip(eps_leg, y_leg))
+    speed, speed_err = leg_fit([(e, yf / h0) for e, yf in path])
+    upper, upper_err = leg_fit([(e, yf / h0) for e, yf in path if yf >= h0 / 2])
+    return {"speed": speed, "speed_err": speed_err, "upper": upper, "upper_err": upper_err,
             "phi_f": statistics.fmean(zones) if zones else None,
             "phi_f_sd": statistics.stdev(zones) if len(zones) > 1 else None,
             "eps": (eps_leg[0], eps_leg[-1]) if eps_leg else None, "frames": len(eps_leg),
-            "end": end, "ahead_at": ahead_at, "path": list(zip(eps_leg, y_leg))}
+            "end": end, "ahead_at": ahead_at, "path": path}
 
 
 def read_bundle(out, classify_bin):

@@ -29,7 +29,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import runs  # noqa: E402
 from examples import FIG3_R, FIG3_S, PHI  # noqa: E402
 from cells import fmt  # noqa: E402
-from spread import seed_list, spearman, stats  # noqa: E402
+from spread import line_fit, seed_list, spearman, stats  # noqa: E402
 
 
 def r_list(text):
@@ -154,8 +154,7 @@ def main():
         xs = [math.log(p["x"]) for p in b_pts]
         speeds = [p["fit"]["mean"] for p in b_pts]
         ys = [math.log(v) for v in speeds]
-        mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
-        slope = sum((u - mx) * (v - my) for u, v in zip(xs, ys)) / sum((u - mx) ** 2 for u in xs)
+        slope = line_fit(xs, ys)[0]
         n_r = [sorted(p["n_r"])[len(p["n_r"]) // 2] for p in b_pts]  # the median (upper on a tie)
         rising = all(v > u for u, v in zip(speeds, speeds[1:]))
         not_falling = all(v >= u for u, v in zip(n_r, n_r[1:]))

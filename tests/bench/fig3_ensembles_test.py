@@ -11,7 +11,7 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "bench", "validation"))
 import fig3_ensembles  # noqa: E402
-from spread import spearman, stats  # noqa: E402  (bench/lib, on the path from fig3_ensembles)
+from spread import line_fit, spearman, stats  # noqa: E402  (bench/lib, on the path from fig3_ensembles)
 
 
 class Majority(unittest.TestCase):
@@ -40,6 +40,16 @@ class Spread(unittest.TestCase):
         self.assertEqual(spearman(x, [1.5, 1.6, 2.0, 9.0]), 1.0)
         self.assertEqual(spearman(x, [9.0, 2.0, 1.6, 1.5]), -1.0)
         self.assertLess(spearman(x, [1.5, 2.0, 1.6, 9.0]), 1.0)
+
+    def test_line_fit(self):
+        slope, err = line_fit([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0])
+        self.assertAlmostEqual(slope, 2.0, places=12)
+        self.assertAlmostEqual(err, 0.0, places=12)
+        slope, err = line_fit([0.0, 1.0, 2.0], [0.0, 1.0, 0.0])  # residuals 1/3, -2/3, 1/3
+        self.assertEqual(slope, 0.0)
+        self.assertAlmostEqual(err, (2 / 3 / 1 / 2) ** 0.5, places=12)
+        self.assertEqual(line_fit([0.0, 2.0], [1.0, 0.0]), (-0.5, None))
+        self.assertEqual(line_fit([1.0], [1.0]), (None, None))
 
     def test_stats_of_one_and_of_several(self):
         self.assertIsNone(stats([1.9])["sd"])
