@@ -40,6 +40,10 @@ void expect_same_pattern(double R) {
               kRoundOff * base.features.band_speed_ratio);
   EXPECT_NEAR(scaled.features.band_speed_transit, base.features.band_speed_transit,
               kRoundOff * base.features.band_speed_transit);
+  for (const auto speed : {&Features::band_speed_early, &Features::band_speed_lead}) {
+    ASSERT_GT(base.features.*speed, 0.0);
+    EXPECT_NEAR(scaled.features.*speed, base.features.*speed, kRoundOff * base.features.*speed);
+  }
   EXPECT_NEAR(scaled.features.stress_ratio, base.features.stress_ratio,
               kRoundOff * base.features.stress_ratio);
 }

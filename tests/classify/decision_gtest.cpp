@@ -87,6 +87,9 @@ TEST(Decision, StoredFeaturesDecideAsComputedOnes) {
   F.onset_origins = {"top", "interior"};
   F.n_fronts = 3;
   F.band_turns = 2;
+  F.band_speed_early = 2.14;
+  F.band_speed_lead = 2.79;
+  F.band_speed_lead_error = 0.01;
   const Classification direct = decide(F);
   // As summary.json stores it (NaN written as null), then read back.
   const nlohmann::json stored = nlohmann::json::parse(to_json(direct).dump());
@@ -97,6 +100,7 @@ TEST(Decision, StoredFeaturesDecideAsComputedOnes) {
   for (int i = 0; i < 6; ++i) EXPECT_EQ(again.scores[i], direct.scores[i]) << "class " << i;
   EXPECT_EQ(to_json(again).dump(), to_json(direct).dump());
   EXPECT_TRUE(std::isnan(back.band_speed_ratio));
+  EXPECT_EQ(back.band_speed_lead, F.band_speed_lead);
   EXPECT_EQ(back.onset_origins, F.onset_origins);
 }
 

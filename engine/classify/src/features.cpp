@@ -139,6 +139,10 @@ void band_features(const Front* prim, const BandPath& band, double zone, Feature
     F.first_reflection_eps = prim->turns.front().eps;
   }
   F.band_turns = band.n_turns;
+  F.band_speed_early = band.middle.speed;
+  F.band_speed_early_error = band.middle.error;
+  F.band_speed_lead = band.lead.speed;
+  F.band_speed_lead_error = band.lead.error;
   if (band.n_reflections > F.n_reflections) {
     F.n_reflections = band.n_reflections;
     F.first_reflection_eps = band.first_reflection_eps;
@@ -326,6 +330,10 @@ nlohmann::json to_json(const Features& f) {
       {"band_speed_error", num(f.band_speed_error)},
       {"band_speed_transit", num(f.band_speed_transit)},
       {"band_speed_transit_error", num(f.band_speed_transit_error)},
+      {"band_speed_early", num(f.band_speed_early)},
+      {"band_speed_early_error", num(f.band_speed_early_error)},
+      {"band_speed_lead", num(f.band_speed_lead)},
+      {"band_speed_lead_error", num(f.band_speed_lead_error)},
       {"bottom_speed_ratio", num(f.bottom_speed_ratio)},
       {"nonreflecting_speed", num(f.nonreflecting_speed)},
       {"speed_excess", num(f.speed_excess)},
@@ -408,6 +416,10 @@ Features features_from_json(const nlohmann::json& j) {
   read_number(j, "band_speed_error", f.band_speed_error);
   read_number(j, "band_speed_transit", f.band_speed_transit);
   read_number(j, "band_speed_transit_error", f.band_speed_transit_error);
+  read_number(j, "band_speed_early", f.band_speed_early);
+  read_number(j, "band_speed_early_error", f.band_speed_early_error);
+  read_number(j, "band_speed_lead", f.band_speed_lead);
+  read_number(j, "band_speed_lead_error", f.band_speed_lead_error);
   read_number(j, "bottom_speed_ratio", f.bottom_speed_ratio);
   read_number(j, "nonreflecting_speed", f.nonreflecting_speed);
   read_number(j, "speed_excess", f.speed_excess);

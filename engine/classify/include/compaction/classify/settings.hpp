@@ -35,6 +35,14 @@ struct TrackerSettings {
   int band_median_frames = 5;   // the band's path is a running median over this many frames
                                 // (odd): it removes single-frame flickers of a row near the
                                 // threshold                                                 [-]
+  double lead_share = 0.1;      // the band's leading edge: where the rows, read from the top
+                                // down, first move slower than the material ahead of the band
+                                // plus this share of the step from it to the plate speed (the
+                                // step's 10 % point; the material ahead carries the elastic
+                                // precursor's velocity, up to a quarter of V at R/S = 0.25) [-]
+  double early_stage = 0.5;     // the band's early stage: its first leg while the edge is in
+                                // the column's upper part, above this share of h0 (before a
+                                // band that changes speed on its way has done so)         [h0]
 };
 
 // The features (features.hpp).
