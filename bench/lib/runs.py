@@ -139,8 +139,12 @@ def reading(out, classify_bin=CLASSIFY):
 
 
 def band_speeds(features):
-    """Both readings of c_b/V with their uncertainties (docs/classifier.md) from a
-    classification's features: fit, fit_err, transit, transit_err (None where absent)."""
+    """The readings of c_b/V with their uncertainties (docs/classifier.md) from a
+    classification's features: fit, fit_err, transit, transit_err, and the early stage's in the
+    velocity map, early, early_err (the band's middle) and lead, lead_err (its leading edge);
+    None where absent."""
     f = features or {}
     return {"fit": f.get("band_speed_ratio"), "fit_err": f.get("band_speed_error"),
-            "transit": f.get("band_speed_transit"), "transit_err": f.get("band_speed_transit_error")}
+            "transit": f.get("band_speed_transit"), "transit_err": f.get("band_speed_transit_error"),
+            "early": f.get("band_speed_early"), "early_err": f.get("band_speed_early_error"),
+            "lead": f.get("band_speed_lead"), "lead_err": f.get("band_speed_lead_error")}

@@ -177,14 +177,18 @@ def read_bundle(out, classify_bin):
             "classifier": runs.reading(out, classify_bin)}
 
 
+def speed_cell(v, err):
+    """A speed and its standard error as a table cell ("-": none)."""
+    return "-" if v is None else "%s +- %s" % (fmt(v), fmt(err, 2))
+
+
 def leg_cells(leg):
     """A leg's speed over the whole leg and over its upper half, and its strain range, frames
     and end, as three table cells."""
-    def speed(v, err):
-        return "-" if v is None else "%s +- %s" % (fmt(v), fmt(err, 2))
     span = ("-" if leg["eps"] is None else
             "%.2f-%.2f (%d), %s" % (leg["eps"] + (leg["frames"], leg["end"])))
-    return [speed(leg["speed"], leg["speed_err"]), speed(leg["upper"], leg["upper_err"]), span]
+    return [speed_cell(leg["speed"], leg["speed_err"]), speed_cell(leg["upper"], leg["upper_err"]),
+            span]
 
 
 def plot(results, png):
@@ -214,6 +218,9 @@ def plot(results, png):
                            fmt="o" if leg is r["legs"][1] else "^")
         if r["classifier"]["fit"] is not None:
             ax[1].plot([x], [r["classifier"]["fit"]], "o", mfc="white", mec=c, ms=4)
+        if r["classifier"]["lead"] is not None:
+            ax[1].errorbar([x], [r["classifier"]["lead"]], yerr=[r["classifier"]["lead_err"]],
+                           fmt="D", mfc="white", mec=c, c=c, ms=4)
     for g in groups:
         ax[0].plot([], [], "-", c=colour[g], label="%g cells, perturbation %g" % g)
     ax[0].set_xlabel("eps"); ax[0].set_ylabel("edge height / h0")
@@ -262,12 +269,16 @@ def main():
         "upper half: the same over the leg's frames whose edge is in the column's upper half. "
         "phi_f: the solid fraction between L above the 1/8 edge and L below the plate, mean +- sd "
         "over that leg's frames; mass balance of a band that leaves its zone at phi_f: "
-        "1/(1 - phi/phi_f). Classifier readings (fit, transit) as in docs/classifier.md. Method: "
-        "the script's docstring." % " ".join(sys.argv[1:]), "",
+        "1/(1 - phi/phi_f). Classifier readings (fit, transit; and in the velocity map over the "
+        "band's early stage, its first leg in the column's upper half: its middle, where the "
+        "rows move at half the plate speed, and its leading edge, the 10 %% point of the step from "
+        "the material ahead to the plate speed, each +- its fit's standard error) as in "
+        "docs/classifier.md. Method: the script's docstring." % " ".join(sys.argv[1:]), "",
         "| run | R/S^2 | cells across a strut | perturbation | label | c_b/V fit | c_b/V transit | "
+        "velocity map, early: middle | leading edge | "
         "c_b/V edge 1/8 | upper half | its leg: eps (frames), ended by | c_b/V edge 1/4 | "
         "upper half | its leg | phi_f | 1/(1 - phi/phi_f) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         c, p, leg = r["classifier"], r["params"], r["legs"][0]
         mass = (1 / (1 - r["phi"] / leg["phi_f"]) if leg["phi_f"] and leg["phi_f"] > r["phi"]
@@ -275,7 +286,8 @@ def main():
         lines.append("| " + " | ".join(
             [r["run"], "%.3g" % (p["R"] / p["S"] ** 2), "%.2f" % r["grid"]["cells_per_strut"],
              "%g" % p["perturbation"], "%s (%s)" % (c["label"], fmt(c["confidence"], 2)),
-             fmt(c["fit"]), fmt(c["transit"])] + leg_cells(leg) + leg_cells(r["legs"][1]) +
+             fmt(c["fit"]), fmt(c["transit"]), speed_cell(c["early"], c["early_err"]),
+             speed_cell(c["lead"], c["lead_err"])] + leg_cells(leg) + leg_cells(r["legs"][1]) +
             ["-" if leg["phi_f"] is None else
              "%.3f +- %s" % (leg["phi_f"], fmt(leg["phi_f_sd"], 2)),
              fmt(mass)]) + " |")
@@ -285,8 +297,9 @@ def main():
                                                    + ".png"), "",
                   "Left: the edge (1/4 level; 1/8 where a run has no 1/4 edge) over each run's "
                   "first leg; right: c_b/V against R/S^2, the edge's speed over the leg's upper "
-                  "half (filled circles; triangles: the 1/8 edge) and the classifier's fit "
-                  "(hollow). Colours: resolution (cells across a strut) and perturbation. "
+                  "half (filled circles; triangles: the 1/8 edge), the classifier's fit "
+                  "(hollow circles) and the leading edge in the velocity map over the early "
+                  "stage (hollow diamonds). Colours: resolution (cells across a strut) and perturbation. "
                   "Dashed: 1/(1 - phi_discrete).", ""]
     if a.out:
         runs.write_report(a.out, lines)
