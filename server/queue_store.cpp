@@ -42,7 +42,8 @@ void insert_result(sqlite::Database& w, std::int64_t job_id, const ResultRecord&
                    const std::string& worker, Millis created_at,
                    const std::vector<std::string>& paths, const std::optional<ResultOrigin>& origin) {
   // The phase map's band-speed readings are columns of their own, read from the features (?12)
-  // here: a number, or NULL when the key is absent, null or not a number (migration 0008).
+  // here: a number, or NULL when the key is absent, null or not a number (migrations 0008,
+  // 0009).
   auto feature = [](const char* key) {
     return std::string("CASE WHEN json_type(?12, '$.") + key +
            "') IN ('real', 'integer') THEN json_extract(?12, '$." + key + "') END";
@@ -51,10 +52,13 @@ void insert_result(sqlite::Database& w, std::int64_t job_id, const ResultRecord&
        "INSERT INTO results (job_id, status, reason, scene, engine_version, source_revision,"
        " class, confidence, runner_up, n_reflections, band_speed_ratio, features, eps_reached,"
        " wall_seconds, summary, worker, created_at, origin_database, origin_job, imported_at,"
-       " band_speed_error, band_speed_transit, band_speed_transit_error)"
+       " band_speed_error, band_speed_transit, band_speed_transit_error, band_speed_early,"
+       " band_speed_early_error, band_speed_lead, band_speed_lead_error)"
        " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18,"
        " ?19, ?20, " + feature("band_speed_error") + ", " + feature("band_speed_transit") + ", " +
-       feature("band_speed_transit_error") + ")")
+       feature("band_speed_transit_error") + ", " + feature("band_speed_early") + ", " +
+       feature("band_speed_early_error") + ", " + feature("band_speed_lead") + ", " +
+       feature("band_speed_lead_error") + ")")
       .bind(1, job_id)
       .bind(2, r.status)
       .bind(3, r.reason)

@@ -242,8 +242,9 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
       " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps,"
       " r.band_speed_error, r.band_speed_transit, r.band_speed_transit_error, h.label,"
-      " j.structure"
-      // The covering indexes of migration 0008; named, as SQLite would otherwise read each
+      " j.structure, r.band_speed_early, r.band_speed_early_error, r.band_speed_lead,"
+      " r.band_speed_lead_error"
+      // The covering indexes of migrations 0008 and 0009; named, as SQLite would otherwise read each
       // result by its row (rowid) and so its whole summary.
       " FROM jobs j INDEXED BY jobs_map"
       " LEFT JOIN results r INDEXED BY results_map ON r.job_id = j.id"
@@ -274,6 +275,10 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
     p.band_speed_transit_error = s.opt_real(16);
     p.human_label = s.opt_text(17);
     if (auto structure = s.opt_text(18)) p.structure = *structure;
+    p.band_speed_early = s.opt_real(19);
+    p.band_speed_early_error = s.opt_real(20);
+    p.band_speed_lead = s.opt_real(21);
+    p.band_speed_lead_error = s.opt_real(22);
     points.push_back(std::move(p));
   }
   // jobs_map yields the rows by (phi, S, R, id), which is (S, R, id) whenever the jobs within the

@@ -88,6 +88,10 @@ struct PhaseMapPoint {
   std::optional<double> confidence, band_speed_ratio, progress_eps;
   // c_b/V's standard error and the transit reading with its uncertainty, from the features
   std::optional<double> band_speed_error, band_speed_transit, band_speed_transit_error;
+  // the band's early stage in the velocity map: its middle and its leading edge, with their
+  // standard errors
+  std::optional<double> band_speed_early, band_speed_early_error, band_speed_lead,
+      band_speed_lead_error;
   std::optional<std::int64_t> n_reflections;
   std::int64_t job_id = 0, cells_per_unit = 0;
   std::optional<std::string> human_label;  // a person's label; `cls` stays the classifier's

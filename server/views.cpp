@@ -218,7 +218,7 @@ json sweep_jobs(const std::vector<JobRecord>& rows) {
 std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
   // Keys in the order a json object writes them (sorted).
   JsonText t;
-  t.out.reserve(64 + points.size() * 400);
+  t.out.reserve(64 + points.size() * 500);
   t.out += "{";
   t.key("phi").value(phi);
   t.key("points");
@@ -228,7 +228,11 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.out += i == 0 ? "{" : ",{";
     t.key("R").value(p.R);
     t.key("S").value(p.S);
+    t.key("band_speed_early").value(p.band_speed_early);
+    t.key("band_speed_early_error").value(p.band_speed_early_error);
     t.key("band_speed_error").value(p.band_speed_error);
+    t.key("band_speed_lead").value(p.band_speed_lead);
+    t.key("band_speed_lead_error").value(p.band_speed_lead_error);
     t.key("band_speed_ratio").value(p.band_speed_ratio);
     t.key("band_speed_transit").value(p.band_speed_transit);
     t.key("band_speed_transit_error").value(p.band_speed_transit_error);

@@ -1,7 +1,7 @@
 // The band-speed page (Fig. 3) in real headless Chromium, served by a real compaction-server, on
 // phase-map points answered by playwright's request routing: only bands, classes (a) and (b), are
 // plotted; every run left off is counted with its reason; each plotted band with an uncertainty
-// has an error bar from c_b/V - e to c_b/V + e (cut at the plot's edge), for either reading.
+// has an error bar from c_b/V - e to c_b/V + e (cut at the plot's edge), for every reading.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
@@ -10,13 +10,14 @@ import { Harness, artifactsDir, canvasBox, waitFor } from './lib/harness.mjs';
 const point = (job_id, extra) => ({
   S: 0.03, R: 1e-3, phi: 0.4, state: 'succeeded', class: null, confidence: 0.9, runner_up: null, n_reflections: 0,
   band_speed_ratio: null, band_speed_error: null, band_speed_transit: null, band_speed_transit_error: null,
+  band_speed_early: null, band_speed_early_error: null, band_speed_lead: null, band_speed_lead_error: null,
   job_id, status: 'ok', cells_per_unit: 20, eps_end: 0.2, progress_eps: null, ...extra,
 });
 
 const POINTS = [
-  point(1, { class: 'a', S: 0.03, R: 1e-3, band_speed_ratio: 1.73, band_speed_error: 0.008, band_speed_transit: 1.694, band_speed_transit_error: 0.016 }),
+  point(1, { class: 'a', S: 0.03, R: 1e-3, band_speed_ratio: 1.73, band_speed_error: 0.008, band_speed_transit: 1.694, band_speed_transit_error: 0.016, band_speed_early: 1.731, band_speed_early_error: 0.003, band_speed_lead: 1.729, band_speed_lead_error: 0.004 }),
   // a random structure: a square marker, as in the paper's Fig. 3 (the others are regular: circles)
-  point(2, { class: 'b', S: 0.01, R: 1e-2, n_reflections: 3, band_speed_ratio: 3.57, band_speed_error: 0.15, band_speed_transit: 3.49, band_speed_transit_error: 0.03, structure: 'random' }),
+  point(2, { class: 'b', S: 0.01, R: 1e-2, n_reflections: 3, band_speed_ratio: 3.57, band_speed_error: 0.15, band_speed_transit: 3.49, band_speed_transit_error: 0.03, band_speed_lead: 2.79, band_speed_lead_error: 0.01, structure: 'random' }),
   point(3, { class: 'b', S: 0.02, R: 3e-3, n_reflections: 1, band_speed_ratio: 2.5 }), // no uncertainty
   point(4, { class: 'a', S: 0.05, R: 1e-4 }), // no band speed measured
   point(5, { class: 'a', S: 0.04, R: 2e-4, band_speed_ratio: -0.4, band_speed_error: 0.1, band_speed_transit: -0.3, band_speed_transit_error: 0.1 }),
@@ -122,6 +123,8 @@ test('the band-speed page plots bands only, with an error bar per band, and says
     assert.match(tip, /run 1/);
     assert.match(tip, /1\.730 ± 0\.008/);
     assert.match(tip, /1\.694 ± 0\.016/);
+    assert.match(tip, /early, middle\)\s+1\.731 ± 0\.003/);
+    assert.match(tip, /early, leading edge\)\s+1\.729 ± 0\.004/);
     assert.match(tip, /structure\s+regular/);
     await page.mouse.move(box.x + 2, box.y + 2);
 
@@ -133,6 +136,15 @@ test('the band-speed page plots bands only, with an error bar per band, and says
     assert.equal(transit.leftOff.missing.count, 2);
     assert.match(page.url(), /speed=transit/);
     await shot(page, '11-band-speed-transit');
+
+    // The early stage's leading edge: only runs 1 and 2 have one.
+    await page.locator('#bands-reading').selectOption('lead');
+    const lead = await waitFor(async () => { const d = await drawing(page); return d && d.reading === 'lead' ? d : null; }, { what: 'the leading-edge plot' });
+    assert.deepEqual(lead.plotted.map((q) => q.job_id).sort(), [1, 2]);
+    checkBars(lead, 'band_speed_lead', 'band_speed_lead_error');
+    assert.equal(lead.leftOff.missing.count, 4);
+    assert.match(page.url(), /speed=lead/);
+    await shot(page, '12-band-speed-lead');
 
     assert.deepEqual(h.pageErrors, [], 'no errors in the page');
   } catch (e) {

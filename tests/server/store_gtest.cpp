@@ -318,7 +318,9 @@ TEST_F(StoreTest, PhaseMapCarriesBothReadingsOfTheBandSpeedWithTheirUncertaintie
     store.queue.complete(l->job_id, l->token, r, t0);
   };
   complete({{"band_speed_ratio", 1.73}, {"band_speed_error", 0.008}, {"band_speed_transit", 1.694},
-            {"band_speed_transit_error", 0.016}});
+            {"band_speed_transit_error", 0.016}, {"band_speed_early", 2.14},
+            {"band_speed_early_error", 0.009}, {"band_speed_lead", 2.79},
+            {"band_speed_lead_error", 0.01}});
   complete({{"band_speed_ratio", nullptr}, {"band_speed_error", nullptr}});  // no band
   complete({{"band_speed_error", "wide"}});                                 // not a number
   const json map = phase_map_of(store, 0.4, std::nullopt);
@@ -328,9 +330,14 @@ TEST_F(StoreTest, PhaseMapCarriesBothReadingsOfTheBandSpeedWithTheirUncertaintie
   EXPECT_DOUBLE_EQ(band["band_speed_error"].get<double>(), 0.008);
   EXPECT_DOUBLE_EQ(band["band_speed_transit"].get<double>(), 1.694);
   EXPECT_DOUBLE_EQ(band["band_speed_transit_error"].get<double>(), 0.016);
+  EXPECT_DOUBLE_EQ(band["band_speed_early"].get<double>(), 2.14);
+  EXPECT_DOUBLE_EQ(band["band_speed_early_error"].get<double>(), 0.009);
+  EXPECT_DOUBLE_EQ(band["band_speed_lead"].get<double>(), 2.79);
+  EXPECT_DOUBLE_EQ(band["band_speed_lead_error"].get<double>(), 0.01);
   for (int i : {1, 2}) {
     for (const char* k : {"band_speed_ratio", "band_speed_error", "band_speed_transit",
-                          "band_speed_transit_error"}) {
+                          "band_speed_transit_error", "band_speed_early", "band_speed_early_error",
+                          "band_speed_lead", "band_speed_lead_error"}) {
       EXPECT_TRUE(map["points"][i][k].is_null()) << "point " << i << ", " << k;
     }
   }
@@ -359,35 +366,45 @@ TEST(StoreSchema, MigrationsAreAppliedOnceAndRecorded) {
   EXPECT_EQ(q.text(1), "0001_init.sql");
 }
 
+// A database at dir whose results carry these features (one job each), then set back by the SQL
+// `roll_back` to the schema before a migration: opened again, the migration runs on results
+// written before it.
+void results_before_migration(const TempDir& dir, const std::vector<json>& features,
+                              const char* roll_back) {
+  {
+    Store s(dir.file("db"), config());
+    json sweep = points({});
+    for (std::size_t i = 0; i < features.size(); ++i) {
+      sweep["points"].push_back({{"S", 0.01 * static_cast<double>(i + 1)}, {"R", 1e-3}, {"phi", 0.4}});
+    }
+    s.sweeps.create(plan(sweep), t0);
+    for (const json& f : features) {
+      auto l = s.queue.lease("w", "test-1", t0);
+      ResultRecord r = result_for(s, l->job_id);
+      r.features = f.dump();
+      s.queue.complete(l->job_id, l->token, r, t0);
+    }
+  }
+  sqlite::Database(dir.file("db")).exec_script(roll_back);
+}
+
 // Migration 0008 on a database written before it: the band-speed readings move from the
 // features into their columns (numbers only), the structure from the scene, and the map reads
 // the same values as the intake writes for a new result.
 TEST(StoreSchema, TheMapColumnsAreFilledFromTheFeaturesAndScenesOfEarlierRuns) {
   TempDir dir;
-  {
-    Store s(dir.file("db"), config());
-    s.sweeps.create(plan(points({0.01, 0.02})), t0);
-    for (const json& features :
-         {json{{"band_speed_error", 0.008}, {"band_speed_transit", 1.694},
-               {"band_speed_transit_error", 2}},
-          json{{"band_speed_error", "wide"}, {"band_speed_transit", nullptr}}}) {
-      auto l = s.queue.lease("w", "test-1", t0);
-      ResultRecord r = result_for(s, l->job_id);
-      r.features = features.dump();
-      s.queue.complete(l->job_id, l->token, r, t0);
-    }
-  }
-  {
-    // Back to the schema of 0007: without the columns, the indexes and the record of 0008.
-    sqlite::Database db(dir.file("db"));
-    db.exec_script(
-        "DROP INDEX jobs_map; DROP INDEX results_map; CREATE INDEX jobs_phi ON jobs (phi);"
-        "ALTER TABLE results DROP COLUMN band_speed_error;"
-        "ALTER TABLE results DROP COLUMN band_speed_transit;"
-        "ALTER TABLE results DROP COLUMN band_speed_transit_error;"
-        "ALTER TABLE jobs DROP COLUMN structure;"
-        "DELETE FROM schema_migrations WHERE name = '0008_phase_map_columns.sql';");
-  }
+  // Back to the schema of 0007: without the columns, the indexes and the record of 0008.
+  results_before_migration(
+      dir,
+      {json{{"band_speed_error", 0.008}, {"band_speed_transit", 1.694},
+            {"band_speed_transit_error", 2}},
+       json{{"band_speed_error", "wide"}, {"band_speed_transit", nullptr}}},
+      "DROP INDEX jobs_map; DROP INDEX results_map; CREATE INDEX jobs_phi ON jobs (phi);"
+      "ALTER TABLE results DROP COLUMN band_speed_error;"
+      "ALTER TABLE results DROP COLUMN band_speed_transit;"
+      "ALTER TABLE results DROP COLUMN band_speed_transit_error;"
+      "ALTER TABLE jobs DROP COLUMN structure;"
+      "DELETE FROM schema_migrations WHERE name = '0008_phase_map_columns.sql';");
   Store s(dir.file("db"), config());
   const json map = phase_map_of(s, 0.4, std::nullopt);
   ASSERT_EQ(map["points"].size(), 2u);
@@ -400,6 +417,39 @@ TEST(StoreSchema, TheMapColumnsAreFilledFromTheFeaturesAndScenesOfEarlierRuns) {
   EXPECT_TRUE(others["band_speed_transit"].is_null());
   EXPECT_TRUE(others["band_speed_transit_error"].is_null()) << "absent";
   for (const json& p : map["points"]) EXPECT_EQ(p["structure"], "regular");
+}
+
+// Migration 0009 on a database written before it: the early-stage readings move from the
+// features into their columns (numbers only), as the intake writes them for a new result.
+TEST(StoreSchema, TheEarlyStageColumnsAreFilledFromTheFeaturesOfEarlierRuns) {
+  TempDir dir;
+  // Back to the schema of 0008: without the columns and the record of 0009.
+  results_before_migration(
+      dir,
+      {json{{"band_speed_early", 2.14}, {"band_speed_early_error", 0.009},
+            {"band_speed_lead", 3}, {"band_speed_lead_error", 0.01}},
+       json{{"band_speed_early", "fast"}, {"band_speed_lead", nullptr}}},
+      "DROP INDEX results_map;"
+      "CREATE INDEX results_map ON results (job_id, status, class, confidence, runner_up,"
+      " n_reflections, band_speed_ratio, band_speed_error, band_speed_transit,"
+      " band_speed_transit_error);"
+      "ALTER TABLE results DROP COLUMN band_speed_early;"
+      "ALTER TABLE results DROP COLUMN band_speed_early_error;"
+      "ALTER TABLE results DROP COLUMN band_speed_lead;"
+      "ALTER TABLE results DROP COLUMN band_speed_lead_error;"
+      "DELETE FROM schema_migrations WHERE name = '0009_early_stage_columns.sql';");
+  Store s(dir.file("db"), config());
+  const json map = phase_map_of(s, 0.4, std::nullopt);
+  ASSERT_EQ(map["points"].size(), 2u);
+  const json& numbers = map["points"][0];
+  EXPECT_EQ(numbers["band_speed_early"], 2.14);
+  EXPECT_EQ(numbers["band_speed_early_error"], 0.009);
+  EXPECT_EQ(numbers["band_speed_lead"], 3.0) << "an integer is a number";
+  EXPECT_EQ(numbers["band_speed_lead_error"], 0.01);
+  const json& others = map["points"][1];
+  EXPECT_TRUE(others["band_speed_early"].is_null()) << "a text is not a number";
+  EXPECT_TRUE(others["band_speed_early_error"].is_null()) << "absent";
+  EXPECT_TRUE(others["band_speed_lead"].is_null()) << "null";
 }
 
 TEST(StoreSchema, AnEditedMigrationIsRefused) {
@@ -514,6 +564,10 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
                      {"band_speed_error", opt(p.band_speed_error)},
                      {"band_speed_transit", opt(p.band_speed_transit)},
                      {"band_speed_transit_error", opt(p.band_speed_transit_error)},
+                     {"band_speed_early", opt(p.band_speed_early)},
+                     {"band_speed_early_error", opt(p.band_speed_early_error)},
+                     {"band_speed_lead", opt(p.band_speed_lead)},
+                     {"band_speed_lead_error", opt(p.band_speed_lead_error)},
                      {"job_id", p.job_id}, {"status", opt(p.status)},
                      {"cells_per_unit", p.cells_per_unit},
                      {"cells_per_strut", p.cells_per_unit * compaction::strut_fraction(p.phi)},
@@ -527,6 +581,7 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
   done.cls = "b", done.runner_up = "a \"quoted\" \\ \xff name", done.status = "ok";
   done.confidence = 1.0, done.band_speed_ratio = 1.7300000000000002, done.band_speed_error = 3e-300;
   done.band_speed_transit = -0.5, done.band_speed_transit_error = 12345678.0;
+  done.band_speed_early = 2.14, done.band_speed_early_error = 1e-12, done.band_speed_lead = 2.79;
   done.n_reflections = 3, done.progress_eps = 0.2, done.job_id = 42, done.cells_per_unit = 20;
   done.human_label = "c", done.structure = "random";
   PhaseMapPoint queued;

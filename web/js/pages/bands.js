@@ -16,10 +16,13 @@ const CAP_PX = 4; // half the width of an error bar's cap
 // The classes Fig. 3 plots: the bands, (a) non-reflecting and (b) reflecting.
 export const BAND_CLASSES = ['a', 'b'];
 
-// The two readings of c_b/V the classifier gives (docs/classifier.md), each with its uncertainty.
+// The readings of c_b/V the classifier gives (docs/classifier.md), each with its uncertainty: the
+// first leg's, and the early stage's in the velocity map.
 export const READINGS = {
   fit: { value: 'band_speed_ratio', error: 'band_speed_error', name: 'least-squares fit', note: 'slope of the leading edge, ± its standard error' },
   transit: { value: 'band_speed_transit', error: 'band_speed_transit_error', name: 'transit', note: 'travel over strain between the first and last points of the leg, each end ± a row and the edge\'s step of a unit cell' },
+  early: { value: 'band_speed_early', error: 'band_speed_early_error', name: 'early stage, middle', note: 'the band\'s middle (rows at half the plate speed) over its first leg in the column\'s upper half, from the velocity map, ± its standard error' },
+  lead: { value: 'band_speed_lead', error: 'band_speed_lead_error', name: 'early stage, leading edge', note: 'the band\'s leading edge (10 % of the step from the material ahead to the plate speed) over its first leg in the column\'s upper half, from the velocity map, ± its standard error' },
 };
 
 // Why a run at this phi is not on the plot, in the order the page lists them.
@@ -169,6 +172,8 @@ function tooltipHtml(p) {
       <tr><th>R/S²</th><td>${sci(stressRatio(p.S, p.R))}</td></tr>
       <tr><th><i>c</i><sub>b</sub>/<i>V</i> (fit)</th><td>${reading(READINGS.fit)}</td></tr>
       <tr><th><i>c</i><sub>b</sub>/<i>V</i> (transit)</th><td>${reading(READINGS.transit)}</td></tr>
+      <tr><th><i>c</i><sub>b</sub>/<i>V</i> (early, middle)</th><td>${reading(READINGS.early)}</td></tr>
+      <tr><th><i>c</i><sub>b</sub>/<i>V</i> (early, leading edge)</th><td>${reading(READINGS.lead)}</td></tr>
       <tr><th><i>N</i><sub>r</sub></th><td>${p.n_reflections ?? '—'}</td></tr>
       <tr><th>structure</th><td>${markerShape(p) === 'square' ? 'random' : 'regular'}</td></tr>
       <tr><th>class</th><td>${CLASSES[p.class] ? `<span class="dot" style="background:${CLASSES[p.class].color}"></span>` : ''}${escapeHtml(label(p.class))}</td></tr></table>`;
