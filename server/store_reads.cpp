@@ -244,8 +244,8 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       " r.band_speed_error, r.band_speed_transit, r.band_speed_transit_error, h.label,"
       " j.structure, r.band_speed_early, r.band_speed_early_error, r.band_speed_lead,"
       " r.band_speed_lead_error"
-      // The covering indexes of migrations 0008 and 0009; named, as SQLite would otherwise read each
-      // result by its row (rowid) and so its whole summary.
+      // The covering indexes of migrations 0008 and 0009; named, as SQLite would otherwise read
+      // each result by its row (rowid) and so its whole summary.
       " FROM jobs j INDEXED BY jobs_map"
       " LEFT JOIN results r INDEXED BY results_map ON r.job_id = j.id"
       " LEFT JOIN human_labels h ON h.job_id = j.id"

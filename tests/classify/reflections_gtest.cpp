@@ -32,7 +32,8 @@ test::SyntheticRun with_band(double eps_end, const std::function<double(double)>
 // A run whose band is a ramp of the row speed: at rest ahead of it but for `ahead` (the elastic
 // precursor's velocity, a share of V), rising linearly from its leading edge lead(eps) to the
 // plate speed at its trailing edge trail(eps), above which the material moves with the plate.
-test::SyntheticRun with_ramp(double eps_end, double ahead, const std::function<double(double)>& lead,
+test::SyntheticRun with_ramp(double eps_end, double ahead,
+                             const std::function<double(double)>& lead,
                              const std::function<double(double)>& trail) {
   test::SyntheticRun s = test::make_run(eps_end, [](double, double) { return 0.0; });
   SpaceTimeMap& v = s.result.velocity;

@@ -62,8 +62,8 @@ struct Features {
   double band_speed_early = 0.0;     // c_b / V of the band's middle in the velocity map over its
                                      // early stage (reflections.hpp, BandPath::middle; NaN: none)
   double band_speed_early_error = 0.0;  // its standard error (the fit's scatter)
-  double band_speed_lead = 0.0;      // the same of the band's leading edge (BandPath::lead): above
-                                     // the early stage's middle where the band widens  (NaN: none)
+  double band_speed_lead = 0.0;      // the same of the band's leading edge (BandPath::lead):
+                                     // faster than the middle where the band widens (NaN: none)
   double band_speed_lead_error = 0.0;   // its standard error
   int band_turns = 0;                // all turns of the band in the velocity map, at a plate or
                                      // not (a reflection is a turn within turn_travel of a plate)

@@ -33,7 +33,8 @@ struct BandPath {
   // is in the column's upper part and fit_margin below the plate. A band is a step of the row
   // velocity, from the material ahead of it to the plate speed; where the step is sharp its
   // edges run together, where it widens its leading edge runs ahead of its middle.
-  EdgeSpeed middle;             // the height above, where the rows fall below half the plate speed
+  EdgeSpeed middle;             // the band's middle, `height` above: where the rows fall below
+                                // half the plate speed
   EdgeSpeed lead;               // the leading edge: the step's lead_share point above the
                                 // material ahead (the median row velocity between the bottom
                                 // plate zone and a unit cell below the band's middle)
