@@ -16,6 +16,7 @@ from collections import defaultdict
 
 import examples
 from cells import fmt
+from spread import line_fit
 
 
 def columns(jobs):
@@ -93,13 +94,6 @@ def pearson(x, y):
     sxx = sum((a - mx) ** 2 for a in x)
     syy = sum((b - my) ** 2 for b in y)
     return sxy / math.sqrt(sxx * syy) if sxx > 0 and syy > 0 else None  # undefined if constant
-
-
-def slope(x, y):
-    """Least-squares slope of y on x."""
-    n = len(x)
-    mx, my = sum(x) / n, sum(y) / n
-    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
 
 
 def bracket_rows(pairs):
@@ -210,7 +204,7 @@ def comparison(jobs, phi, r_crit):
             x = [math.log10(inertia(j)) for j in pts]
             y = [math.log10(j["c_b"]) for j in pts]
             out.append("c_b/V of the %d (b) %s, against R/S^2, log-log: slope %s, correlation %s."
-                       % (len(pts), name, fmt(slope(x, y), 2), fmt(pearson(x, y), 2)))
+                       % (len(pts), name, fmt(line_fit(x, y)[0], 2), fmt(pearson(x, y), 2)))
     slow = [j for j in jobs if j["label"] in ("a", "b") and j["c_b"] is not None
             and j["c_b"] < 0.95 * floor]
     out.append("Runs (a) or (b) whose band is more than 5 %% below that floor: %d (%s)."

@@ -85,7 +85,7 @@ class Statistics(unittest.TestCase):
         q = [0.5, 1, 3, 10, 40]
         x = [math.log10(v) for v in q]
         y = [math.log10(2.0 * v ** 0.3) for v in q]
-        self.assertAlmostEqual(compare.slope(x, y), 0.3, places=12)
+        self.assertAlmostEqual(compare.line_fit(x, y)[0], 0.3, places=12)
 
     def test_percentile_interpolates_between_order_statistics(self):
         self.assertEqual(compare.percentile([3, 1, 2], 0.5), 2)
