@@ -145,6 +145,7 @@ def band_speeds(features):
     None where absent."""
     f = features or {}
     return {"fit": f.get("band_speed_ratio"), "fit_err": f.get("band_speed_error"),
-            "transit": f.get("band_speed_transit"), "transit_err": f.get("band_speed_transit_error"),
+            "transit": f.get("band_speed_transit"),
+            "transit_err": f.get("band_speed_transit_error"),
             "early": f.get("band_speed_early"), "early_err": f.get("band_speed_early_error"),
             "lead": f.get("band_speed_lead"), "lead_err": f.get("band_speed_lead_error")}

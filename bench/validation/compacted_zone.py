@@ -299,8 +299,8 @@ def main():
                   "first leg; right: c_b/V against R/S^2, the edge's speed over the leg's upper "
                   "half (filled circles; triangles: the 1/8 edge), the classifier's fit "
                   "(hollow circles) and the leading edge in the velocity map over the early "
-                  "stage (hollow diamonds). Colours: resolution (cells across a strut) and perturbation. "
-                  "Dashed: 1/(1 - phi_discrete).", ""]
+                  "stage (hollow diamonds). Colours: resolution (cells across a strut) and "
+                  "perturbation. Dashed: 1/(1 - phi_discrete).", ""]
     if a.out:
         runs.write_report(a.out, lines)
     else:
