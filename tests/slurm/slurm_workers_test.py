@@ -272,22 +272,39 @@ job = env.wait_for(lambda: (lambda j: j if j["state"] == "running" else None)(
     env.get("/api/v1/jobs/%d" % job_id)), 60, "the long job to run under srun")
 check(re.fullmatch(r"slurm-%s-task[01]@localhost" % srun_job, job["worker"] or ""),
       "an srun worker is named slurm-%s-taskPROCID@localhost, got %s" % (srun_job, job["worker"]))
-workers = {}  # name -> (pid, argv, environ); a worker's forked child, before its exec, looks alike
-for pid in filter(str.isdigit, os.listdir("/proc")):
-    try:
-        with open("/proc/%s/cmdline" % pid, "rb") as f:
-            argv = f.read().split(b"\0")
-        with open("/proc/%s/environ" % pid, "rb") as f:
-            environ = f.read().split(b"\0")
-    except OSError:
-        continue  # a process that ended meanwhile
-    check(all(WORKER_TOKEN.encode() not in a and SUBMIT_TOKEN.encode() not in a for a in argv),
-          "process %s has a token on its command line: %s" % (pid, argv))
-    name = argv[argv.index(b"--name") + 1].decode() if b"--name" in argv[:-1] else ""
-    if argv[0].endswith(b"/compaction-worker") and name.startswith("slurm-%s-task" % srun_job):
-        workers[name] = (pid, argv, environ)
+
+
+def srun_workers():
+    """The srun job's workers now running, name -> (pid, argv, environ) (a worker's forked child,
+    before its exec, looks alike); fails on any process with a token on its command line."""
+    workers = {}
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open("/proc/%s/cmdline" % pid, "rb") as f:
+                argv = f.read().split(b"\0")
+            with open("/proc/%s/environ" % pid, "rb") as f:
+                environ = f.read().split(b"\0")
+        except OSError:
+            continue  # a process that ended meanwhile
+        check(all(WORKER_TOKEN.encode() not in a and SUBMIT_TOKEN.encode() not in a for a in argv),
+              "process %s has a token on its command line: %s" % (pid, argv))
+        name = argv[argv.index(b"--name") + 1].decode() if b"--name" in argv[:-1] else ""
+        if argv[0].endswith(b"/compaction-worker") and name.startswith("slurm-%s-task" % srun_job):
+            workers[name] = (pid, argv, environ)
+    return workers
+
+
+# One task's worker leased the job; the other may still be starting (srun starts the tasks side
+# by side, and a loaded machine can hold one back for seconds).
 expected = {"slurm-%s-task%d@localhost" % (srun_job, i) for i in range(n_tasks)}
-check(set(workers) == expected, "the srun workers %s run, found %s" % (sorted(expected), sorted(workers)))
+deadline = time.time() + 30
+while True:
+    workers = srun_workers()
+    if set(workers) == expected or time.time() >= deadline:
+        break
+    time.sleep(0.2)
+check(set(workers) == expected, "the srun workers %s run within 30 s, found %s"
+      % (sorted(expected), sorted(workers)))
 for pid, argv, environ in workers.values():
     check(("COMPACTION_WORKER_TOKEN=" + WORKER_TOKEN).encode() in environ,
           "worker %s has the token from the file in its environment" % pid)
