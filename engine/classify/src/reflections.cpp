@@ -15,6 +15,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The median of x's values, the upper middle of an even count (reorders x; x not empty).
+double upper_median(std::vector<double>& x) {
+  const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+  std::nth_element(x.begin(), mid, x.end());
+  return *mid;
+}
+
 // The height of the first row, read from `first` down, slower than `speed` (a share of V): the
 // top when the first row is (the band is at the plate), 0 when none is (the band has passed
 // every row), NaN when there is no row below the plate zone.
@@ -34,10 +41,7 @@ double speed_ahead(const SpaceTimeMap& v, int f, double middle, double row, doub
   for (int r = 0; r < v.n_rows && (r + 0.5) * row <= middle - cell; ++r) {
     if ((r + 0.5) * row >= zone) speeds.push_back(-v.at(f, r));
   }
-  if (speeds.empty()) return 0.0;
-  const auto mid = speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2);
-  std::nth_element(speeds.begin(), mid, speeds.end());
-  return *mid;
+  return speeds.empty() ? 0.0 : upper_median(speeds);
 }
 
 // The band's middle and leading edge in each frame (heights / h0): from the plate zone's lower
@@ -68,8 +72,7 @@ Edges band_edges(const SpaceTimeMap& v, const MapAxes& axes, const TrackerSettin
   return e;
 }
 
-// Running median over `frames` frames (fewer at the ends, NaNs left out; the upper middle of an
-// even count).
+// Running median over `frames` frames (fewer at the ends, NaNs left out; upper_median).
 std::vector<double> running_median(const std::vector<double>& x, int frames) {
   const int n = static_cast<int>(x.size()), half = frames / 2;
   std::vector<double> out, window;
@@ -78,8 +81,7 @@ std::vector<double> running_median(const std::vector<double>& x, int frames) {
     for (int g = std::max(0, f - half); g <= std::min(n - 1, f + half); ++g) {
       if (std::isfinite(x[g])) window.push_back(x[g]);
     }
-    std::sort(window.begin(), window.end());
-    out.push_back(window.empty() ? kNaN : window[window.size() / 2]);
+    out.push_back(window.empty() ? kNaN : upper_median(window));
   }
   return out;
 }
