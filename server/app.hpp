@@ -41,6 +41,7 @@ void register_label_routes(httplib::Server& server, App& app);
 void register_import_routes(httplib::Server& server, App& app);
 
 // Everything above plus error handling and logging: the whole API on one server.
-void register_all_routes(httplib::Server& server, App& app);
+class HttpServer;
+void register_all_routes(HttpServer& server, App& app);
 
 }  // namespace compaction::server

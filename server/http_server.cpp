@@ -2,14 +2,13 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
@@ -19,8 +18,6 @@
 namespace compaction::server {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 Clock::duration seconds(double s) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
@@ -61,94 +58,118 @@ void address_of(int fd, bool peer, std::string& ip, int& port) {
   ip = buf;
 }
 
-// A socket with a deadline: every read and write waits at most the idle timeout and never past
-// the deadline of the request; while the headers are read, the bytes are counted and capped.
+// A handler's view of its connection: first the bytes the front buffered, then the socket,
+// every wait at most the idle timeout and never past the request's deadline; reads beyond the
+// buffer (a large body) and writes keep the front's pace rule.
 class DeadlineStream final : public httplib::Stream {
  public:
-  DeadlineStream(int fd, const ConnectionLimits& limits) : fd_(fd), limits_(limits) {}
-
-  void start_request() {
-    const auto now = Clock::now();
-    header_deadline_ = now + seconds(limits_.header_timeout_seconds);
-    request_deadline_ = now + seconds(limits_.request_timeout_seconds);
-    in_headers_ = true;
-    header_bytes_ = 0;
-  }
-  void headers_complete() { in_headers_ = false; }
+  DeadlineStream(Connection& c, const ConnectionLimits& limits)
+      : c_(c), limits_(limits), start_(Clock::now()) {}
 
   bool is_readable() const override {
-    return wait_for(fd_, POLLIN, ms_until(deadline(), seconds(limits_.idle_timeout_seconds)));
+    if (offset_ < c_.in.size()) return true;
+    return wait_for(c_.fd, POLLIN, ms_until(read_deadline(), idle()));
   }
   bool is_writable() const override {
-    return wait_for(fd_, POLLOUT,
-                    ms_until(request_deadline_, seconds(limits_.idle_timeout_seconds)));
+    return wait_for(c_.fd, POLLOUT, ms_until(write_deadline(), idle()));
   }
 
   ssize_t read(char* ptr, size_t size) override {
-    if (offset_ == filled_) {
-      if (!is_readable()) return -1;
-      ssize_t n;
-      do {
-        n = ::recv(fd_, buffer_.data(), buffer_.size(), 0);
-      } while (n < 0 && errno == EINTR);
-      if (n <= 0) return -1;
+    if (offset_ == c_.in.size()) {
+      // The buffer is used up: refill it from the socket.
+      c_.in.clear();
       offset_ = 0;
-      filled_ = static_cast<std::size_t>(n);
+      std::array<char, 16384> chunk;
+      for (;;) {
+        if (!is_readable()) return -1;
+        const ssize_t n = ::recv(c_.fd, chunk.data(), chunk.size(), 0);
+        if (n > 0) {
+          c_.in.append(chunk.data(), static_cast<std::size_t>(n));
+          from_socket_ += static_cast<std::size_t>(n);
+          break;
+        }
+        if (n == 0) return -1;
+        if (errno != EINTR && errno != EAGAIN && errno != EWOULDBLOCK) return -1;
+      }
     }
-    const std::size_t n = std::min(size, filled_ - offset_);
-    if (in_headers_ && (header_bytes_ += n) > limits_.max_header_bytes) return -1;
-    std::memcpy(ptr, buffer_.data() + offset_, n);
+    const std::size_t n = std::min(size, c_.in.size() - offset_);
+    std::memcpy(ptr, c_.in.data() + offset_, n);
     offset_ += n;
     return static_cast<ssize_t>(n);
   }
 
   ssize_t write(const char* ptr, size_t size) override {
-    if (!is_writable()) return -1;
-    ssize_t n;
-    do {
-      n = ::send(fd_, ptr, size, MSG_NOSIGNAL);
-    } while (n < 0 && errno == EINTR);
-    return n;
+    for (;;) {
+      if (!is_writable()) return -1;
+      const ssize_t n = ::send(c_.fd, ptr, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+      if (n > 0) {
+        written_ += static_cast<std::size_t>(n);
+        return n;
+      }
+      if (n < 0 && (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK)) continue;
+      return -1;
+    }
   }
 
   void get_remote_ip_and_port(std::string& ip, int& port) const override {
-    address_of(fd_, true, ip, port);
+    address_of(c_.fd, true, ip, port);
   }
   void get_local_ip_and_port(std::string& ip, int& port) const override {
-    address_of(fd_, false, ip, port);
+    address_of(c_.fd, false, ip, port);
   }
-  socket_t socket() const override { return fd_; }
+  socket_t socket() const override { return c_.fd; }
 
-  // Bytes already received beyond the current request (a pipelined next request).
-  bool has_buffered() const { return offset_ < filled_; }
+  // Leaves in the connection's buffer only what the client sent beyond the request.
+  void keep_unread() { c_.in.erase(0, offset_); }
 
  private:
-  Clock::time_point deadline() const {
-    return in_headers_ ? std::min(header_deadline_, request_deadline_) : request_deadline_;
+  Clock::duration idle() const { return seconds(limits_.idle_timeout_seconds); }
+  Clock::time_point read_deadline() const {
+    return paced_deadline(start_, from_socket_, limits_, c_.request_deadline);
+  }
+  Clock::time_point write_deadline() const {
+    return paced_deadline(start_, written_, limits_, c_.request_deadline + seconds(limits_.body_grace_seconds));
   }
 
-  int fd_;
+  Connection& c_;
   const ConnectionLimits& limits_;
-  Clock::time_point header_deadline_{}, request_deadline_{};
-  bool in_headers_ = true;
-  std::size_t header_bytes_ = 0;
-  std::array<char, 4096> buffer_{};
-  std::size_t offset_ = 0, filled_ = 0;
+  Clock::time_point start_;
+  std::size_t offset_ = 0;       // into c_.in
+  std::size_t from_socket_ = 0;  // bytes the handler read from the socket itself
+  std::size_t written_ = 0;
 };
 
-struct Connection {
-  DeadlineStream* stream = nullptr;
-  bool close_after = false;
+thread_local bool close_after = false;
+
+// cpp-httplib's listener runs each accepted socket's task at once, on its own thread: the task
+// (process_and_close_socket) only hands the socket to the front.
+class InlineQueue final : public httplib::TaskQueue {
+ public:
+  void enqueue(std::function<void()> fn) override { fn(); }
+  void shutdown() override {}
 };
-thread_local Connection* current = nullptr;
+
+// Raises the soft limit of open files to the hard one: every connection is a file.
+int open_file_limit() {
+  rlimit r{};
+  if (::getrlimit(RLIMIT_NOFILE, &r) != 0) return 1024;
+  if (r.rlim_cur < r.rlim_max) {
+    r.rlim_cur = r.rlim_max;
+    ::setrlimit(RLIMIT_NOFILE, &r);
+    ::getrlimit(RLIMIT_NOFILE, &r);
+  }
+  return r.rlim_cur > 1u << 30 ? 1 << 30 : static_cast<int>(r.rlim_cur);
+}
+
+}  // namespace
 
 // Handler threads started on demand up to a maximum; beyond min_threads, a thread idle for
-// a minute ends.
-class GrowingPool final : public httplib::TaskQueue {
+// a minute ends. Every task queued before shutdown() runs.
+class HandlerPool {
  public:
-  GrowingPool(int max_threads, int min_threads) : max_(max_threads), min_(min_threads) {}
+  HandlerPool(int max_threads, int min_threads) : max_(max_threads), min_(min_threads) {}
 
-  void enqueue(std::function<void()> fn) override {
+  void enqueue(std::function<void()> fn) {
     std::lock_guard lock(mutex_);
     jobs_.push_back(std::move(fn));
     if (jobs_.size() > static_cast<std::size_t>(idle_) && live_ < max_) {
@@ -158,7 +179,7 @@ class GrowingPool final : public httplib::TaskQueue {
     wake_.notify_one();
   }
 
-  void shutdown() override {
+  void shutdown() {
     std::unique_lock lock(mutex_);
     stop_ = true;
     wake_.notify_all();
@@ -194,29 +215,13 @@ class GrowingPool final : public httplib::TaskQueue {
   bool stop_ = false;
 };
 
-// Answers a refused request, then reads (and drops) what the client still sends for a short
-// while, so that a client writing its whole body before it reads sees the answer instead of a
-// reset; bounded in time and bytes.
-void drain_and_close(int fd) {
-  ::shutdown(fd, SHUT_WR);
-  const auto until = Clock::now() + std::chrono::seconds(2);
-  std::array<char, 16384> sink;
-  std::size_t total = 0;
-  while (total < (64u << 20) && wait_for(fd, POLLIN, ms_until(until, std::chrono::seconds(2)))) {
-    const ssize_t n = ::recv(fd, sink.data(), sink.size(), 0);
-    if (n <= 0) break;
-    total += static_cast<std::size_t>(n);
-  }
-  ::close(fd);
-}
-
-}  // namespace
-
 HttpServer::HttpServer(ConnectionLimits limits) : limits_(limits) {
-  const int threads = std::max(1, limits_.max_threads);
-  new_task_queue = [threads] { return new GrowingPool(threads, std::min(threads, 4)); };
+  limits_.max_threads = std::max(1, limits_.max_threads);
+  limits_.upload_slots = std::clamp(limits_.upload_slots, 1, limits_.max_threads);
+  // Every connection is a file; keep some for the database, the artifacts and the logs.
+  limits_.max_connections = std::max(16, std::min(limits_.max_connections, open_file_limit() - 256));
+  new_task_queue = [] { return new InlineQueue(); };
   set_tcp_nodelay(true);
-  set_keep_alive_timeout(static_cast<time_t>(limits_.keep_alive_seconds));
   // SO_REUSEADDR lets a restarted server bind while old connections linger in TIME_WAIT;
   // without SO_REUSEPORT (cpp-httplib's default), a port in use is an error.
   set_socket_options([](socket_t sock) {
@@ -225,51 +230,54 @@ HttpServer::HttpServer(ConnectionLimits limits) : limits_(limits) {
   });
 }
 
+HttpServer::~HttpServer() = default;
+
 bool HttpServer::listen_after_bind() {
   // listen() again on the listening socket sets its backlog (Linux).
   const socket_t sock = svr_sock_;
   if (sock != INVALID_SOCKET && ::listen(sock, limits_.listen_backlog) != 0) return false;
-  return httplib::Server::listen_after_bind();
+  pool_ = std::make_unique<HandlerPool>(limits_.max_threads, std::min(limits_.max_threads, 4));
+  auto check = head_check_ ? head_check_ : [](const RequestHead&) -> std::optional<ApiError> {
+    return std::nullopt;
+  };
+  auto refused = refusal_logger_ ? refusal_logger_
+                                 : [](const std::string&, const std::string&, const ApiError&) {};
+  front_ = std::make_unique<ConnectionFront>(
+      limits_, std::move(check),
+      [this](std::unique_ptr<Connection> c, bool large) {
+        Connection* raw = c.release();
+        pool_->enqueue([this, raw, large] { serve(std::unique_ptr<Connection>(raw), large); });
+      },
+      std::move(refused));
+  front_->start();
+  const bool ok = httplib::Server::listen_after_bind();
+  front_->stop();
+  pool_->shutdown();
+  return ok;
 }
 
-void HttpServer::headers_complete() {
-  if (current && current->stream) current->stream->headers_complete();
-}
-
-void HttpServer::close_after_response() {
-  if (current) current->close_after = true;
-}
+void HttpServer::close_after_response() { close_after = true; }
 
 bool HttpServer::process_and_close_socket(socket_t sock) {
-  int yes = 1;
-  ::setsockopt(sock, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
-  DeadlineStream stream(sock, limits_);
-  Connection connection{&stream, false};
-  current = &connection;
-  bool ok = true;
-  for (std::size_t count = keep_alive_max_count_; count > 0; --count) {
-    // Wait for the next request in slices, so that a stopping server is noticed.
-    const auto idle_until = Clock::now() + seconds(limits_.keep_alive_seconds);
-    bool ready = stream.has_buffered();
-    while (!ready && svr_sock_ != INVALID_SOCKET) {
-      const int left = ms_until(idle_until, std::chrono::milliseconds(100));
-      if (left <= 0) break;
-      ready = wait_for(sock, POLLIN, left);
-    }
-    if (!ready || svr_sock_ == INVALID_SOCKET) break;
-    stream.start_request();
-    bool connection_closed = false;
-    ok = process_request(stream, count == 1, connection_closed, nullptr);
-    if (!ok || connection_closed || connection.close_after) break;
+  front_->adopt(sock);
+  return true;
+}
+
+void HttpServer::serve(std::unique_ptr<Connection> c, bool large) {
+  close_after = false;
+  bool ok = false, connection_closed = false;
+  const bool last = static_cast<std::size_t>(c->served + 1) >= keep_alive_max_count_;
+  {
+    DeadlineStream stream(*c, limits_);
+    ok = process_request(stream, last, connection_closed, nullptr);
+    stream.keep_unread();
   }
-  current = nullptr;
-  if (connection.close_after) {
-    drain_and_close(sock);
-  } else {
-    ::shutdown(sock, SHUT_RDWR);
-    ::close(sock);
-  }
-  return ok;
+  ++c->served;
+  if (large) front_->upload_done();
+  // After a final answer (or a large body a handler refused, partly unread) the connection
+  // closes after a short drain: what the client still sends is never parsed as a request.
+  const bool keep = ok && !connection_closed && !last && !close_after;
+  front_->give_back(std::move(c), !keep);
 }
 
 }  // namespace compaction::server

@@ -54,6 +54,24 @@ json limits_json(const PlannerLimits& l) {
             {"movie_d_eps", movie_json()}}}};
 }
 
+// Counts an answer by its class and logs it (a refusal with its body, at info).
+void log_request(App& app, const std::string& method, const std::string& path, int status,
+                 const std::string& body) {
+  if (status >= 500) {
+    ++app.requests.server_error;
+  } else if (status >= 400) {
+    ++app.requests.client_error;
+  } else {
+    ++app.requests.ok;
+  }
+  if (status >= 400) {
+    spdlog::info("http {} {} -> {} {}", log_escape(method, 20), log_escape(path), status,
+                 log_escape(body, 300));
+  } else {
+    spdlog::debug("http {} {} -> {}", log_escape(method, 20), log_escape(path), status);
+  }
+}
+
 }  // namespace
 
 void register_service_routes(httplib::Server& server, App& app) {
@@ -107,7 +125,7 @@ void register_service_routes(httplib::Server& server, App& app) {
   }
 }
 
-void register_all_routes(httplib::Server& server, App& app) {
+void register_all_routes(HttpServer& server, App& app) {
   install_request_guard(server, guard_config(app.options));
   // Artifacts and errors are data: a browser must never guess another type for them.
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
@@ -169,21 +187,13 @@ void register_all_routes(httplib::Server& server, App& app) {
         send_internal_error(req, res, what);
       });
   server.set_logger([&app](const httplib::Request& req, const httplib::Response& res) {
-    if (res.status >= 500) {
-      ++app.requests.server_error;
-    } else if (res.status >= 400) {
-      ++app.requests.client_error;
-    } else {
-      ++app.requests.ok;
-    }
-    if (res.status >= 400) {
-      spdlog::info("http {} {} -> {} {}", log_escape(req.method, 20), log_escape(req.path),
-                   res.status, log_escape(res.body, 300));
-    } else {
-      spdlog::debug("http {} {} -> {}", log_escape(req.method, 20), log_escape(req.path),
-                    res.status);
-    }
+    log_request(app, req.method, req.path, res.status, res.body);
   });
+  server.set_refusal_logger(
+      [&app](const std::string& method, const std::string& path, const ApiError& e) {
+        log_request(app, method.empty() ? "-" : method, path.empty() ? "-" : path, e.status,
+                    json_text(e.body()));
+      });
 }
 
 }  // namespace compaction::server
