@@ -12,10 +12,10 @@
 #include <httplib.h>
 
 #include "http_util.hpp"
+#include "tokens.hpp"
 
 namespace compaction::server {
 
-enum class TokenKind { none, submit, worker };
 enum class BodyKind { none, json, multipart };
 
 struct Endpoint {
@@ -81,5 +81,10 @@ const Endpoint& find_endpoint(const std::string& method, const std::string& path
 
 // Registers the handler (inside guarded()) for the endpoint's method and pattern.
 void add_route(httplib::Server& server, const Endpoint& e, Handler handler);
+
+// The same for a handler that reads the body itself, as it arrives (a POST or PUT).
+using StreamingHandler = std::function<void(const httplib::Request&, httplib::Response&,
+                                            const httplib::ContentReader&)>;
+void add_streaming_route(httplib::Server& server, const Endpoint& e, StreamingHandler handler);
 
 }  // namespace compaction::server

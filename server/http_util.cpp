@@ -64,24 +64,6 @@ Handler guarded(Handler h) {
 
 json parse_json_body(const httplib::Request& req) { return parse_client_json(req.body, "body"); }
 
-void require_token(const httplib::Request& req, const std::string& expected) {
-  if (expected.empty()) return;
-  const std::string auth = req.get_header_value("Authorization");
-  const std::string prefix = "Bearer ";
-  if (auth.empty()) throw ApiError(401, "Authorization", "a Bearer token is required");
-  if (auth.rfind(prefix, 0) != 0) {
-    throw ApiError(401, "Authorization", "expected \"Authorization: Bearer <token>\"");
-  }
-  const std::string given = auth.substr(prefix.size());
-  // Compare in time independent of where the strings differ.
-  unsigned diff = given.size() != expected.size();
-  for (std::size_t i = 0; i < given.size(); ++i) {
-    diff |= static_cast<unsigned char>(given[i]) ^
-            static_cast<unsigned char>(expected[i % expected.size()]);
-  }
-  if (diff != 0) throw ApiError(403, "Authorization", "wrong token");
-}
-
 namespace {
 std::optional<long long> to_int(const std::string& s) {
   if (s.empty() || s.size() > 18) return std::nullopt;
@@ -144,6 +126,9 @@ std::string body_string(const json& body, const char* key, std::size_t max_len, 
   }
   if (text == TextKind::name && has_control_characters(s)) {
     throw ApiError(422, key, "must not hold control characters");
+  }
+  if (text == TextKind::prose && has_control_characters(s, true)) {
+    throw ApiError(422, key, "must be UTF-8 text without control characters but newlines and tabs");
   }
   return s;
 }

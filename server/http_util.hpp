@@ -1,5 +1,5 @@
-// Helpers shared by the route files: JSON answers, the error body, body parsing, tokens and
-// query parameters. Every handler runs inside guarded(), which turns ApiError into its status
+// Helpers shared by the route files: JSON answers, the error body, body parsing and query
+// parameters. Every handler runs inside guarded(), which turns ApiError into its status
 // and JSON body and anything else into a 500 saying "internal error" and an id; the reason is
 // logged under that id and never sent.
 #pragma once
@@ -31,10 +31,6 @@ Handler guarded(Handler h);
 // the field "body".
 nlohmann::json parse_json_body(const httplib::Request& req);
 
-// Requires "Authorization: Bearer <expected>" when expected is not empty: missing -> 401,
-// wrong -> 403 (field "Authorization").
-void require_token(const httplib::Request& req, const std::string& expected);
-
 // Path ids: positive integers (the route's regex guarantees digits; too large -> 404).
 std::int64_t path_id(const httplib::Request& req, int match_index, const char* what);
 
@@ -44,9 +40,11 @@ std::optional<std::int64_t> query_id(const httplib::Request& req, const char* na
 std::optional<double> query_number(const httplib::Request& req, const char* name);
 
 // Required string fields of a JSON object body (422 naming the field): 1 to max_len bytes;
-// a name holds no control characters, free text (a failure reason) is kept as it came (the
-// log escapes it, JSON answers escape it).
-enum class TextKind { name, free_text };
+// a name holds no control characters; prose (a person's reason for a label) is valid UTF-8 and
+// may hold newlines and tabs but no other control character (no NUL: SQLite's length() stops
+// at one); free text (a runner's failure reason) is kept as it came (the log escapes it, JSON
+// answers escape it).
+enum class TextKind { name, prose, free_text };
 std::string body_string(const nlohmann::json& body, const char* key, std::size_t max_len,
                         TextKind text = TextKind::name);
 

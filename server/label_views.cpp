@@ -8,7 +8,12 @@ using nlohmann::json;
 
 json human_label(const std::optional<HumanLabel>& l) {
   if (!l) return nullptr;
-  return {{"label", l->label}, {"reason", l->reason}, {"by", l->by}, {"at", l->at}};
+  return {{"label", l->label},
+          {"reason", l->reason},
+          {"by", l->by},
+          {"at", l->at},
+          {"token", l->token.empty() ? json(nullptr) : json(l->token)},
+          {"imported_at", opt(l->imported_at)}};
 }
 
 json label_change(const LabelChange& c) {
@@ -20,7 +25,10 @@ json label_change(const LabelChange& c) {
           {"classifier_label", opt(c.classifier_label)},
           {"reason", c.reason},
           {"by", c.by},
-          {"at", c.at}};
+          {"at", c.at},
+          {"token", opt(c.token)},
+          {"claimed_by", opt(c.claimed_by)},
+          {"claimed_at", opt(c.claimed_at)}};
 }
 
 json label_audit(const std::vector<LabelChange>& changes, std::int64_t total, int limit,

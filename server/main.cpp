@@ -100,8 +100,8 @@ int main(int argc, char** argv) {
     spdlog::info("listening on http://{}:{} db={} engine={} ({}) lease={}s tokens: submit={} worker={}",
                  options->host, port, options->db, compaction::engine_version(),
                  compaction::source_revision(), options->lease_seconds,
-                 options->submit_token.empty() ? "open" : "required",
-                 options->worker_token.empty() ? "open" : "required");
+                 options->tokens.open(TokenKind::submit) ? "open" : "required",
+                 options->tokens.open(TokenKind::worker) ? "open" : "required");
     const bool ok = server.listen_after_bind();
     if (!ok && server.is_running()) spdlog::error("the server stopped unexpectedly");
     // The listener ended on its own: wake the signal thread (SIGTERM is blocked elsewhere).

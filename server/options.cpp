@@ -51,6 +51,11 @@ cli::CommandLine command_line(ServerOptions& o) {
           "token of the worker endpoints (env COMPACTION_WORKER_TOKEN)\n"
           "Both tokens are mandatory when --host is not a loopback address;\n"
           "reading endpoints stay open. Clients send \"Authorization: Bearer TOKEN\".");
+  cl.text("--tokens", o.tokens_file, "FILE",
+          "named tokens, beside or instead of the two above: one per line,\n"
+          "\"ROLE NAME TOKEN\" (ROLE: submit or worker; NAME: letters, digits,\n"
+          "'.', '_', '-'; TOKEN: 8 to 256 printable characters); a relabel\n"
+          "or an import records the name of the token that made it");
   cl.text("--web-dir", o.web_dir, "DIR", "static files of the dashboard", "the source tree's web/");
   cl.real("--lease-seconds", o.lease_seconds, {0.5, 86400}, "S",
           "lease length in seconds, renewed by each heartbeat");
@@ -96,10 +101,19 @@ std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& ex
     exit_code = *code;
     return std::nullopt;
   }
-  if (!is_loopback_host(o.host) && (o.submit_token.empty() || o.worker_token.empty())) {
+  try {
+    if (!o.submit_token.empty()) o.tokens.add({TokenKind::submit, "", o.submit_token}, false);
+    if (!o.worker_token.empty()) o.tokens.add({TokenKind::worker, "", o.worker_token}, false);
+    if (!o.tokens_file.empty()) load_tokens_file(o.tokens_file, o.tokens);
+  } catch (const std::invalid_argument& e) {
+    exit_code = cl.fail(o.tokens_file.empty() ? "--submit-token" : "--tokens", e.what());
+    return std::nullopt;
+  }
+  if (!is_loopback_host(o.host) && (o.tokens.open(TokenKind::submit) || o.tokens.open(TokenKind::worker))) {
     exit_code = cl.fail("--host", "listening on " + o.host +
                                       " (not a loopback address, or a name that does not resolve)"
-                                      " needs --submit-token and --worker-token");
+                                      " needs submit and worker tokens (--submit-token and"
+                                      " --worker-token, or --tokens)");
     return std::nullopt;
   }
   exit_code = 0;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "tokens.hpp"
+
 namespace compaction::server {
 
 struct ServerOptions {
@@ -14,6 +16,8 @@ struct ServerOptions {
   std::string port_file;                    // write the bound port here once listening
   std::string submit_token;                 // required to create or cancel sweeps ("" = open)
   std::string worker_token;                 // required by the worker endpoints ("" = open)
+  std::string tokens_file;                  // named tokens, one per line: ROLE NAME TOKEN
+  TokenTable tokens;                        // all of the above, as the guard checks them
   std::string web_dir;                      // static files of the dashboard
   double lease_seconds = 60;                // a lease lasts this long after each heartbeat
   double rescue_interval_seconds = 5;       // how often expired leases are requeued

@@ -47,7 +47,7 @@ std::string media_type(const std::string& content_type) {
 }  // namespace
 
 GuardConfig guard_config(const ServerOptions& o) {
-  return {o.submit_token, o.worker_token, static_cast<std::size_t>(o.max_upload_mb) << 20,
+  return {o.tokens, static_cast<std::size_t>(o.max_upload_mb) << 20,
           is_loopback_host(o.host)};
 }
 
@@ -69,8 +69,7 @@ std::optional<ApiError> check_request(const httplib::Request& req, const GuardCo
     }
   }
   try {
-    if (e.token == TokenKind::submit) require_token(req, c.submit_token);
-    if (e.token == TokenKind::worker) require_token(req, c.worker_token);
+    c.tokens.authenticate(req, e.token);
   } catch (const ApiError& refused) {
     return refused;
   }
@@ -104,27 +103,17 @@ std::optional<ApiError> check_request(const httplib::Request& req, const GuardCo
   return std::nullopt;
 }
 
-void install_request_guard(httplib::Server& server, GuardConfig config) {
-  server.set_pre_routing_handler(
-      [config](const httplib::Request& req, httplib::Response& res) {
-        HttpServer::headers_complete();
-        const auto refused = check_request(req, config);
-        if (!refused) return httplib::Server::HandlerResponse::Unhandled;
-        send_error(res, *refused);
-        res.set_header("Connection", "close");
-        HttpServer::close_after_response();
-        return httplib::Server::HandlerResponse::Handled;
-      });
-  server.set_expect_100_continue_handler(
-      [config](const httplib::Request& req, httplib::Response& res) {
-        HttpServer::headers_complete();
-        const auto refused = check_request(req, config);
-        if (!refused) return 100;
-        send_error(res, *refused);
-        res.set_header("Connection", "close");
-        HttpServer::close_after_response();
-        return refused->status;
-      });
+httplib::Request request_of(const RequestHead& head) {
+  httplib::Request r;
+  r.method = head.method;
+  r.path = head.path;
+  r.target = head.target;
+  for (const auto& [name, value] : head.fields) r.headers.emplace(name, value);
+  return r;
+}
+
+void install_request_guard(HttpServer& server, GuardConfig config) {
+  server.set_head_check([config](const RequestHead& head) { return check_request(request_of(head), config); });
 }
 
 }  // namespace compaction::server

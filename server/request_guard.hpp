@@ -7,7 +7,8 @@
 //   length  a write needs Content-Length (411 without one, or for a chunked body) within the
 //           endpoint's limit (413);
 //   type    JSON endpoints take application/json, the result upload multipart/form-data (415).
-// A refused request is answered at once and its connection closed: the body is never read.
+// The connection front (http_front.hpp) runs these checks once a request's head is in; a refused
+// request is answered at once and its connection closed: the body is never read.
 #pragma once
 
 #include <cstddef>
@@ -16,13 +17,13 @@
 #include <httplib.h>
 
 #include "api_error.hpp"
+#include "http_head.hpp"
 #include "options.hpp"
 
 namespace compaction::server {
 
 struct GuardConfig {
-  std::string submit_token;
-  std::string worker_token;
+  TokenTable tokens;
   std::size_t max_upload_bytes = 0;  // the result upload's limit
   bool loopback = true;              // the server listens on loopback only
 };
@@ -32,6 +33,10 @@ GuardConfig guard_config(const ServerOptions& options);
 // The reason to refuse the request, or nothing.
 std::optional<ApiError> check_request(const httplib::Request& req, const GuardConfig& config);
 
-void install_request_guard(httplib::Server& server, GuardConfig config);
+// The request of a head, as the checks read it (method, decoded path, target, fields).
+httplib::Request request_of(const RequestHead& head);
+
+class HttpServer;
+void install_request_guard(HttpServer& server, GuardConfig config);
 
 }  // namespace compaction::server

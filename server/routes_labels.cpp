@@ -75,11 +75,13 @@ void register_label_routes(httplib::Server& server, App& app) {
     only_keys(body, {"label", "reason", "by"});
     HumanLabel l;
     l.label = class_label(body);
-    l.reason = body_string(body, "reason", kLabelReasonMaxBytes, TextKind::free_text);
+    l.reason = body_string(body, "reason", kLabelReasonMaxBytes, TextKind::prose);
     l.by = body_string(body, "by", kLabelByMaxBytes);
     l.at = now_ms();
+    l.token = app.options.tokens.identity(req, endpoints::set_label.token);
     check_outcome(app.store.labels.set(id, l));
-    spdlog::info("label set job={} label={} by=\"{}\"", id, l.label, log_escape(l.by));
+    spdlog::info("label set job={} label={} by=\"{}\" token={}", id, l.label, log_escape(l.by),
+                 l.token);
     app.adaptive.job_ended(app.store, app.limits, id, now_ms());
     send_json(res, 200, labels_of(app, id));
   });
@@ -90,10 +92,11 @@ void register_label_routes(httplib::Server& server, App& app) {
     only_keys(body, {"reason", "by"});
     const std::string by = body_string(body, "by", kLabelByMaxBytes);
     const std::string reason =
-        body.contains("reason") ? body_string(body, "reason", kLabelReasonMaxBytes, TextKind::free_text)
+        body.contains("reason") ? body_string(body, "reason", kLabelReasonMaxBytes, TextKind::prose)
                                 : std::string();
-    check_outcome(app.store.labels.clear(id, reason, by, now_ms()));
-    spdlog::info("label cleared job={} by=\"{}\"", id, log_escape(by));
+    const std::string token = app.options.tokens.identity(req, endpoints::clear_label.token);
+    check_outcome(app.store.labels.clear(id, reason, by, token, now_ms()));
+    spdlog::info("label cleared job={} by=\"{}\" token={}", id, log_escape(by), token);
     app.adaptive.job_ended(app.store, app.limits, id, now_ms());
     send_json(res, 200, labels_of(app, id));
   });

@@ -15,7 +15,7 @@ constexpr const char* job_columns =
     " r.status, r.reason, r.class, r.confidence, r.runner_up, r.n_reflections,"
     " r.band_speed_ratio, r.features, r.engine_version, r.source_revision, r.eps_reached,"
     " r.wall_seconds, r.worker, r.created_at, r.origin_database, r.origin_job, r.imported_at,"
-    " h.label, h.reason, h.set_by, h.set_at";
+    " h.label, h.reason, h.set_by, h.set_at, h.token, h.imported_at";
 
 // What job_columns reads beside the job j: its result and its human label.
 constexpr const char* result_joins =
@@ -66,7 +66,10 @@ JobRecord read_job(sqlite::Statement& s) {
     r.imported_at = s.opt_int64(37);
     j.result = std::move(r);
   }
-  if (!s.is_null(38)) j.human_label = HumanLabel{s.text(38), s.text(39), s.text(40), s.int64(41)};
+  if (!s.is_null(38)) {
+    j.human_label = HumanLabel{s.text(38), s.text(39), s.text(40), s.int64(41),
+                               s.opt_text(42).value_or(""), s.opt_int64(43)};
+  }
   return j;
 }
 
@@ -314,7 +317,7 @@ std::optional<Artifact> StoreReads::artifact(std::int64_t job_id, const std::str
         "SELECT name, content_type, data, path FROM artifacts WHERE job_id = ? AND name = ?");
     s.bind(1, job_id).bind(2, name);
     if (!s.step()) return std::nullopt;
-    a = {s.text(0), s.text(1), s.is_null(3) ? s.blob(2) : std::string()};
+    a = {s.text(0), s.text(1), s.is_null(3) ? s.blob(2) : std::string(), std::nullopt};
     path = s.opt_text(3);
   }
   if (path) a.data = db_.files.read(*path);  // with no connection held

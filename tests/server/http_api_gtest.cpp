@@ -34,8 +34,8 @@ struct ApiTest : ::testing::Test {
     c.engine_version = compaction::engine_version();
     store = std::make_unique<Store>(dir.file("api.db"), c);
     ServerOptions o;
-    o.submit_token = submit;
-    o.worker_token = worker;
+    o.tokens.add({TokenKind::submit, "", submit}, false);
+    o.tokens.add({TokenKind::worker, "", worker}, false);
     o.web_dir = "";
     app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}, {}});
     app->limits.max_points = 50;

@@ -47,32 +47,36 @@ struct LabelTest : ::testing::Test {
 }  // namespace
 
 TEST_F(LabelTest, ALabelNeedsAJobWithAResult) {
-  EXPECT_EQ(store.labels.set(99, {"b", "r", "ana", t0}), LabelOutcome::unknown_job);
-  EXPECT_EQ(store.labels.set(queued, {"b", "r", "ana", t0}), LabelOutcome::no_result);
-  EXPECT_EQ(store.labels.clear(done, "", "ana", t0), LabelOutcome::not_labelled);
+  EXPECT_EQ(store.labels.set(99, {"b", "r", "ana", t0, "open", std::nullopt}), LabelOutcome::unknown_job);
+  EXPECT_EQ(store.labels.set(queued, {"b", "r", "ana", t0, "open", std::nullopt}), LabelOutcome::no_result);
+  EXPECT_EQ(store.labels.clear(done, "", "ana", "open", t0), LabelOutcome::not_labelled);
   std::int64_t total = -1;
   EXPECT_TRUE(store.labels.audit(std::nullopt, 10, 0, total).empty());
   EXPECT_EQ(total, 0);
 }
 
 TEST_F(LabelTest, SetReplaceAndClearAreAuditedWithWhoWhyWhenAndTheLabelsBefore) {
-  ASSERT_EQ(store.labels.set(done, {"b", "reflects twice", "ana", t0 + 10}), LabelOutcome::ok);
-  ASSERT_EQ(store.labels.set(done, {"c", "fronts from both plates", "ben", t0 + 20}), LabelOutcome::ok);
+  ASSERT_EQ(store.labels.set(done, {"b", "reflects twice", "ana", t0 + 10, "open", std::nullopt}), LabelOutcome::ok);
+  ASSERT_EQ(store.labels.set(done, {"c", "fronts from both plates", "ben", t0 + 20, "submit:ben", std::nullopt}),
+            LabelOutcome::ok);
   json j = views::job_detail(*store.reads.job(done));
-  EXPECT_EQ(j["human_label"], (json{{"label", "c"}, {"reason", "fronts from both plates"}, {"by", "ben"}, {"at", t0 + 20}}));
+  EXPECT_EQ(j["human_label"], (json{{"label", "c"}, {"reason", "fronts from both plates"}, {"by", "ben"},
+                                    {"at", t0 + 20}, {"token", "submit:ben"}, {"imported_at", nullptr}}));
   EXPECT_EQ(j["result"]["class"], "a") << "the classifier's label stays";
   const json map = json::parse(views::phase_map(0.4, store.reads.phase_map(0.4, std::nullopt)));
   for (const json& p : map["points"]) {
     EXPECT_EQ(p["human_label"], p["job_id"] == done ? json("c") : json(nullptr));
   }
 
-  ASSERT_EQ(store.labels.clear(done, "the classifier was right", "ana", t0 + 30), LabelOutcome::ok);
+  ASSERT_EQ(store.labels.clear(done, "the classifier was right", "ana", "open", t0 + 30), LabelOutcome::ok);
   EXPECT_TRUE(views::job_detail(*store.reads.job(done))["human_label"].is_null());
   std::int64_t total = 0;
   const auto changes = store.labels.audit(done, 10, 0, total);
   ASSERT_EQ(total, 3);
   EXPECT_EQ(changes[0].action, "cleared");  // newest first
   EXPECT_EQ(changes[0].previous_label, "c");
+  EXPECT_EQ(changes[0].token, "open") << "the token of the request that cleared it";
+  EXPECT_EQ(changes[1].token, "submit:ben");
   EXPECT_EQ(changes[0].by, "ana");
   EXPECT_EQ(changes[1].action, "set");
   EXPECT_EQ(changes[1].label, "c");
@@ -87,7 +91,7 @@ TEST_F(LabelTest, SetReplaceAndClearAreAuditedWithWhoWhyWhenAndTheLabelsBefore) 
 }
 
 TEST_F(LabelTest, TheSchemaRefusesAClassOutsideAToF) {
-  EXPECT_THROW(store.labels.set(done, {"g", "r", "ana", t0}), sqlite::Error);
+  EXPECT_THROW(store.labels.set(done, {"g", "r", "ana", t0, "open", std::nullopt}), sqlite::Error);
   std::int64_t total = 0;
   store.labels.audit(std::nullopt, 10, 0, total);
   EXPECT_EQ(total, 0) << "the refused change left no audit row";

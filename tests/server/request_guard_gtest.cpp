@@ -11,7 +11,14 @@ using namespace compaction::server;
 namespace {
 
 // Tokens, upload limit, loopback.
-GuardConfig config() { return {std::string("s"), std::string("w"), 1 << 20, true}; }
+GuardConfig config() {
+  GuardConfig c;
+  c.tokens.add({TokenKind::submit, "", "s"}, false);
+  c.tokens.add({TokenKind::worker, "", "w"}, false);
+  c.max_upload_bytes = 1 << 20;
+  c.loopback = true;
+  return c;
+}
 
 httplib::Request request(const std::string& method, const std::string& path,
                          httplib::Headers headers = {}) {

@@ -37,8 +37,8 @@ struct LabelApi : ::testing::Test {
     c.engine_version = compaction::engine_version();
     store = std::make_unique<Store>(dir.file("api.db"), c);
     ServerOptions o;
-    o.submit_token = submit;
-    o.worker_token = worker;
+    o.tokens.add({TokenKind::submit, "", submit}, false);
+    o.tokens.add({TokenKind::worker, "", worker}, false);
     o.web_dir = "";
     app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}, {}});
     register_all_routes(server, *app);
