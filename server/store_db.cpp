@@ -9,7 +9,8 @@
 namespace compaction::server {
 
 StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
-    : config(std::move(config_in)),
+    : lock(path),
+      config(std::move(config_in)),
       writer(path),
       readers(path),
       files(path + ".artifacts"),

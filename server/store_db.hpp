@@ -12,6 +12,7 @@
 #include <string>
 
 #include "artifact_files.hpp"
+#include "database_lock.hpp"
 #include "group_commit.hpp"
 #include "sqlite.hpp"
 
@@ -31,10 +32,12 @@ struct StoreConfig {
 constexpr int max_events_per_job = 50;
 
 struct StoreDb {
-  // Opens the database, applies the pending migrations and removes artifact folders that no
-  // committed row names.
+  // Takes the database's lock (DatabaseInUse when another server holds it), opens the
+  // database, applies the pending migrations and removes artifact folders that no committed row
+  // names.
   StoreDb(const std::string& path, StoreConfig config);
 
+  DatabaseLock lock;  // first: held before anything below opens, migrates or cleans
   StoreConfig config;
   std::mutex write_mutex;
   sqlite::Database writer;
