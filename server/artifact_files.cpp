@@ -49,7 +49,7 @@ ArtifactFiles::ArtifactFiles(fs::path root) : root_(std::move(root)), group_([th
 ArtifactFiles::~ArtifactFiles() { ::close(root_fd_); }
 
 std::vector<std::string> ArtifactFiles::write(const std::string& folder,
-                                              const std::vector<Artifact>& artifacts) {
+                                              const std::vector<Artifact>& artifacts, bool synced) {
   const fs::path dir = root_ / folder;
   std::vector<std::string> paths;
   try {
@@ -60,7 +60,7 @@ std::vector<std::string> ArtifactFiles::write(const std::string& folder,
       write_file(dir / a.name, a.data);
       paths.push_back(folder + "/" + a.name);
     }
-    group_.wait();
+    if (synced) group_.wait();
   } catch (...) {
     remove(folder);
     throw;

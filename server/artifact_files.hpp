@@ -27,9 +27,11 @@ class ArtifactFiles {
   const std::filesystem::path& root() const { return root_; }
 
   // Writes the artifacts into root/folder/ (created) and returns once the files, the folder
-  // and its entry in the root are on disk; returns the path of each file relative to the root,
-  // in order. Throws std::runtime_error on I/O errors (and leaves nothing behind).
-  std::vector<std::string> write(const std::string& folder, const std::vector<Artifact>& artifacts);
+  // and its entry in the root are on disk (synced = false: without waiting; wait_synced() before
+  // the commit that names them); returns the path of each file relative to the root, in order.
+  // Throws std::runtime_error on I/O errors (and leaves nothing behind).
+  std::vector<std::string> write(const std::string& folder, const std::vector<Artifact>& artifacts,
+                                 bool synced = true);
 
   // Returns once everything written on the root's file system before the call (any file of
   // it, not only artifacts) is on disk: a round of the same shared syncfs as write's.

@@ -63,7 +63,7 @@ LeaseCheck CheckpointStore::put(std::int64_t job_id, const std::string& token,
   // The file first, without the lock, in a folder of its own; removed unless the commit names it.
   const std::string folder = "job-" + std::to_string(job_id) + "-" + std::to_string(now) + "-s" +
                              std::to_string(step);
-  const std::string path = files_.write(folder, {{kFileName, "application/octet-stream", bytes}})[0];
+  const std::string path = files_.write(folder, {{kFileName, "application/octet-stream", bytes, std::nullopt}})[0];
   struct RemoveUnlessKept {
     ArtifactFiles& files;
     const std::string& folder;

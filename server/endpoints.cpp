@@ -47,4 +47,16 @@ void add_route(httplib::Server& server, const Endpoint& e, Handler handler) {
   }
 }
 
+void add_streaming_route(httplib::Server& server, const Endpoint& e, StreamingHandler handler) {
+  auto wrapped = [handler = std::move(handler)](const httplib::Request& req, httplib::Response& res,
+                                                const httplib::ContentReader& reader) {
+    guarded([&](const httplib::Request& r, httplib::Response& s) { handler(r, s, reader); })(req, res);
+  };
+  if (std::string(e.method) == "PUT") {
+    server.Put(e.pattern, std::move(wrapped));
+  } else {
+    server.Post(e.pattern, std::move(wrapped));
+  }
+}
+
 }  // namespace compaction::server

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,6 +84,11 @@ struct ImportedRun {
   Millis result_created_at = 0;       // when the computing server stored the result
   ResultRecord result;                // from the summary, with the artifacts' bytes
   std::optional<HumanLabel> human_label;
+  // Set by the importer when it has written the artifacts (result.artifacts then keep their
+  // names and types, their bytes released): the folder below the artifact root and each file's
+  // path, in the order of result.artifacts.
+  std::string staged_folder;
+  std::vector<std::string> staged_paths;
 };
 
 struct ImportedSweep {
@@ -99,11 +106,20 @@ struct ExportFile {
   std::string source_database;
   std::string source;                 // the "source" object (JSON text), kept as provenance
   ImportedSweep sweep;
-  std::vector<ImportedRun> runs;
+  std::vector<ImportedRun> runs;  // read_export(text) keeps them here; the streaming reader hands
+                                  // each to its sink instead
+  std::size_t run_count = 0;      // runs in the file
 };
 
 // Checks the whole file; throws ApiError(422, field, message) at the first problem, the field
-// named as in the file ("runs[3].summary.params.S", "runs[0].artifacts[2].data").
+// named as in the file ("runs[3].summary.params.S", "runs[0].artifacts[2].data"). Runs are read
+// one at a time and handed to on_run as each is checked (the file's head is read first, in a
+// pass of its own: `in` is read twice, from its start); a file costs about one run's document at
+// a time, plus what on_run keeps.
+using RunSink = std::function<void(ImportedRun&)>;
+ExportFile read_export(std::FILE* in, const RunSink& on_run);
+
+// The same for a file in memory, every run kept in ExportFile::runs.
 ExportFile read_export(const std::string& text);
 
 }  // namespace compaction::server

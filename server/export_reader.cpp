@@ -3,7 +3,16 @@
 // recognised by is the one its computing server had), its summary passes the checks of a
 // worker's upload (result_intake.hpp) against that scene and engine version, the file's result
 // must be what the summary says, and each artifact's base64 must decode to its size.
+//
+// The file is read as a stream of JSON events (nlohmann's SAX interface) in two passes: the
+// first builds the small members (format, version, source, sweep) and skips the runs, the second
+// builds one run at a time, checks it and hands it on. So a file costs about one run's document
+// at a time (plus what the caller keeps of each run), never a document of the whole file, and
+// every document built has a budget of values: a file of millions of empty objects is refused at
+// its first run instead of filling memory.
+#include <cstdio>
 #include <set>
+#include <utility>
 
 #include "api_error.hpp"
 #include "base64.hpp"
@@ -182,9 +191,219 @@ ImportedRun read_run(const json& run, const std::string& path, const std::string
 
 }  // namespace
 
-ExportFile read_export(const std::string& file_text) {
-  const json doc = parse_client_json(file_text, "file", 422);
-  if (!doc.is_object()) invalid("file", "must be a JSON object (an export of compaction-server)");
+namespace {
+
+// Values a document of the file may hold: a sweep's request (2 000 points of 4 values), a run
+// (its summary's features, a few hundred values, and its artifacts).
+constexpr std::size_t kMaxMemberValues = 100'000;
+constexpr std::size_t kMaxRunValues = 100'000;
+// A sweep's request as accepted here: the body limit of POST /api/v1/sweeps.
+constexpr std::size_t kMaxRequestBytes = 1 << 20;
+
+// One JSON document built from SAX events, refused beyond a number of values or a depth.
+class Builder {
+ public:
+  Builder(std::string field, std::size_t max_values, int outer_depth)
+      : field_(std::move(field)), max_values_(max_values), outer_depth_(outer_depth) {}
+
+  bool done() const { return done_; }
+  json take() { return std::move(root_); }
+
+  void value(json v) {
+    count();
+    if (stack_.empty()) {
+      root_ = std::move(v);
+      done_ = true;
+    } else if (stack_.back()->is_object()) {
+      (*stack_.back())[key_] = std::move(v);
+    } else {
+      stack_.back()->push_back(std::move(v));
+    }
+  }
+  void open(json container) {
+    if (outer_depth_ + static_cast<int>(stack_.size()) + 1 > max_json_depth) {
+      invalid(field_, "malformed JSON: nested deeper than " + std::to_string(max_json_depth) + " levels");
+    }
+    count();
+    json* at;
+    if (stack_.empty()) {
+      root_ = std::move(container);
+      at = &root_;
+    } else if (stack_.back()->is_object()) {
+      at = &((*stack_.back())[key_] = std::move(container));
+    } else {
+      stack_.back()->push_back(std::move(container));
+      at = &stack_.back()->back();
+    }
+    stack_.push_back(at);
+  }
+  void key(std::string k) { key_ = std::move(k); }
+  void close() {
+    stack_.pop_back();
+    if (stack_.empty()) done_ = true;
+  }
+
+ private:
+  void count() {
+    if (++values_ > max_values_) {
+      invalid(field_, "holds more than " + std::to_string(max_values_) + " JSON values");
+    }
+  }
+
+  std::string field_;
+  std::size_t max_values_;
+  int outer_depth_;
+  json root_;
+  std::vector<json*> stack_;
+  std::string key_;
+  std::size_t values_ = 0;
+  bool done_ = false;
+};
+
+// The two passes over a file's events: Pass::head builds the top-level members but "runs",
+// Pass::runs builds each element of "runs" and hands it to on_run.
+class ExportSax {
+ public:
+  enum class Pass { head, runs };
+  using OnRun = std::function<void(json&& run, std::size_t index)>;
+
+  ExportSax(Pass pass, OnRun on_run) : pass_(pass), on_run_(std::move(on_run)) {}
+
+  json head = json::object();  // Pass::head: the members read
+  bool runs_seen = false;
+
+  bool null() { return scalar(nullptr); }
+  bool boolean(bool v) { return scalar(v); }
+  bool number_integer(json::number_integer_t v) { return scalar(v); }
+  bool number_unsigned(json::number_unsigned_t v) { return scalar(v); }
+  bool number_float(json::number_float_t v, const std::string&) { return scalar(v); }
+  bool string(std::string& v) { return scalar(std::move(v)); }
+  bool binary(json::binary_t&) { invalid("file", "malformed JSON"); }
+
+  bool start_object(std::size_t) { return open(json::object()); }
+  bool start_array(std::size_t) { return open(json::array()); }
+  bool key(std::string& k) {
+    if (builder_) {
+      builder_->key(std::move(k));
+    } else if (skipping_ == 0 && depth_ == 1) {
+      member_ = std::move(k);
+    }
+    return true;
+  }
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
+
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) {
+    invalid("file", "malformed JSON at byte " + std::to_string(position));
+  }
+
+ private:
+  bool scalar(json v) {
+    if (builder_) {
+      builder_->value(std::move(v));
+      if (builder_->done()) finish();
+      return true;
+    }
+    if (skipping_ > 0) return true;
+    if (depth_ == 0) invalid("file", "must be a JSON object (an export of compaction-server)");
+    if (in_runs_) {
+      start_run();
+      builder_->value(std::move(v));
+      finish();
+      return true;
+    }
+    if (member_ == "runs") invalid("runs", "must be an array");
+    if (pass_ == Pass::head && head_member(member_)) head[member_] = std::move(v);
+    return true;
+  }
+
+  // The members of the head that the reader reads; others are skipped unread.
+  static bool head_member(const std::string& key) {
+    return key == "format" || key == "version" || key == "exported_at" || key == "source" ||
+           key == "sweep";
+  }
+
+  bool open(json container) {
+    const bool array = container.is_array();
+    ++depth_;
+    if (builder_) {
+      builder_->open(std::move(container));
+      return true;
+    }
+    if (skipping_ > 0) {
+      ++skipping_;
+      return true;
+    }
+    if (depth_ == 1) {
+      if (array) invalid("file", "must be a JSON object (an export of compaction-server)");
+      return true;
+    }
+    if (in_runs_) {
+      start_run();
+      builder_->open(std::move(container));
+      return true;
+    }
+    // A member of the file's object.
+    if (member_ == "runs") {
+      if (!array) invalid("runs", "must be an array");
+      runs_seen = true;
+      if (pass_ == Pass::runs) {
+        in_runs_ = true;
+      } else {
+        skipping_ = 1;
+      }
+      return true;
+    }
+    if (pass_ == Pass::runs || !head_member(member_)) {
+      skipping_ = 1;
+      return true;
+    }
+    builder_.emplace(member_, kMaxMemberValues, 1);
+    builder_->open(std::move(container));
+    return true;
+  }
+
+  bool close() {
+    --depth_;
+    if (builder_) {
+      builder_->close();
+      if (builder_->done()) finish();
+      return true;
+    }
+    if (skipping_ > 0) {
+      --skipping_;
+      return true;
+    }
+    if (in_runs_ && depth_ == 1) in_runs_ = false;  // the end of "runs"
+    return true;
+  }
+
+  void start_run() {
+    builder_.emplace("runs[" + std::to_string(run_index_) + "]", kMaxRunValues, 2);
+  }
+
+  void finish() {
+    json v = builder_->take();
+    builder_.reset();
+    if (in_runs_) {
+      on_run_(std::move(v), run_index_++);
+    } else {
+      head[member_] = std::move(v);
+    }
+  }
+
+  Pass pass_;
+  OnRun on_run_;
+  int depth_ = 0;       // open containers
+  int skipping_ = 0;    // open containers of a skipped member
+  bool in_runs_ = false;
+  std::string member_;  // the top-level key whose value comes next
+  std::optional<Builder> builder_;
+  std::size_t run_index_ = 0;
+};
+
+// The head of the file (everything but its runs), checked.
+ExportFile read_head(const json& doc) {
   if (!doc.contains("format") || doc["format"] != kExportFormat) {
     invalid("format", std::string("must be \"") + kExportFormat + "\"");
   }
@@ -207,23 +426,66 @@ ExportFile read_export(const std::string& file_text) {
   const json& request = member(sweep, "sweep", "request");
   if (!request.is_object()) invalid("sweep.request", "must be an object (the accepted request)");
   f.sweep.request = request.dump();
+  if (f.sweep.request.size() > kMaxRequestBytes) {
+    invalid("sweep.request", "must be at most " + std::to_string(kMaxRequestBytes) +
+                                 " bytes, as a sweep's request is");
+  }
   f.sweep.priority = static_cast<int>(integer(sweep, "sweep", "priority", kPriorityMin, kPriorityMax));
   f.sweep.created_at = time_ms(sweep, "sweep", "created_at");
   const json& origin = member(sweep, "sweep", "origin");
   f.sweep.origin_database = database_id(origin, "sweep.origin", "database");
   f.sweep.origin_sweep = integer(origin, "sweep.origin", "sweep", 1, std::int64_t(1) << 62);
+  return f;
+}
 
-  const json& runs = member(doc, "", "runs");
-  if (!runs.is_array()) invalid("runs", "must be an array");
+// Runs both passes, `parse` reading the whole file's events into a handler each time.
+ExportFile read_export_passes(const std::function<void(ExportSax&)>& parse, const RunSink& on_run) {
+  ExportSax head(ExportSax::Pass::head, nullptr);
+  parse(head);
+  ExportFile f = read_head(head.head);
+  if (!head.runs_seen) invalid("runs", "is required");
+
   std::set<std::string> identities;
-  for (std::size_t i = 0; i < runs.size(); ++i) {
+  std::set<std::pair<std::string, std::int64_t>> origins;
+  ExportSax runs(ExportSax::Pass::runs, [&](json&& run, std::size_t i) {
     const std::string path = "runs[" + std::to_string(i) + "]";
-    ImportedRun r = read_run(runs[i], path, f.source_database);
+    ImportedRun r = read_run(run, path, f.source_database);
+    run = json();  // the document is done with: only what the run keeps stays
     if (!identities.insert(r.job.identity).second) {
       invalid(path + ".scene", "the same computation (scene and engine version) appears twice");
     }
-    f.runs.push_back(std::move(r));
-  }
+    if (!origins.emplace(r.origin_database, r.origin_job).second) {
+      invalid(path + ".origin", "another run of the file claims the same origin (database " +
+                                    r.origin_database + ", job " + std::to_string(r.origin_job) + ")");
+    }
+    ++f.run_count;
+    on_run(r);
+  });
+  parse(runs);
+  return f;
+}
+
+}  // namespace
+
+ExportFile read_export(std::FILE* in, const RunSink& on_run) {
+  auto pass = [in](ExportSax& sax) {
+    std::rewind(in);
+    json::sax_parse(in, &sax);
+    if (std::ferror(in)) throw std::runtime_error("cannot read the export file");
+  };
+  return read_export_passes(pass, on_run);
+}
+
+ExportFile read_export(const std::string& file_text) {
+  auto pass = [&file_text](ExportSax& sax) { json::sax_parse(file_text, &sax); };
+  ExportFile f;
+  ExportFile head = read_export_passes(pass, [&f](ImportedRun& r) { f.runs.push_back(std::move(r)); });
+  f.version = head.version;
+  f.exported_at = head.exported_at;
+  f.source_database = std::move(head.source_database);
+  f.source = std::move(head.source);
+  f.sweep = std::move(head.sweep);
+  f.run_count = head.run_count;
   return f;
 }
 

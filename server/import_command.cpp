@@ -1,9 +1,11 @@
 #include "import_command.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
+#include <memory>
 
 #include <spdlog/spdlog.h>
 
@@ -26,22 +28,25 @@ json import_outcome_json(const ImportOutcome& o) {
           {"changed", o.changed()}};
 }
 
+ImportOutcome import_export(Store& store, std::FILE* in, const std::string& importer, Millis now) {
+  const ImportOutcome o = store.imports.import_file(in, importer, now);
+  for (const std::int64_t job : o.filled_jobs) store.checkpoints.remove_if_done(job);
+  return o;
+}
+
 int run_import(const ServerOptions& options, const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file.c_str(), "rb"), &std::fclose);
   if (!in) {
-    spdlog::error("--import {}: cannot read the file", file);
+    spdlog::error("--import {}: cannot read the file: {}", file, std::strerror(errno));
     return 1;
   }
-  std::ostringstream text;
-  text << in.rdbuf();
   try {
-    const ExportFile f = read_export(text.str());
     StoreConfig config;
     config.engine_version = compaction::engine_version();
     const std::filesystem::path db_path(options.db);
     if (db_path.has_parent_path()) std::filesystem::create_directories(db_path.parent_path());
     Store store(options.db, config);
-    const ImportOutcome o = store.imports.merge(f, now_ms());
+    const ImportOutcome o = import_export(store, in.get(), "command line", now_ms());
     spdlog::info("imported {} into {}: sweep {} ({}), {} runs: {} new, {} filled, {} identical, "
                  "{} conflicting ({} known), {} labels",
                  file, options.db, o.sweep_id, o.sweep_created ? "created" : "existing", o.runs,

@@ -1,10 +1,13 @@
 #include "import_store.hpp"
 
+#include <malloc.h>
+
 #include <random>
 #include <set>
 
 #include <nlohmann/json.hpp>
 
+#include "api_error.hpp"
 #include "label_store.hpp"
 
 namespace compaction::server {
@@ -61,48 +64,138 @@ std::string ImportStore::database_id() {
   return s.text(0);
 }
 
-ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
-  const std::string own = database_id();
-  // Runs whose computation has a result here need no files; the others get theirs written
-  // before the transaction, without the lock (as a worker's upload).
-  std::set<std::string> have_result;
-  {
-    auto db = db_.readers.take();
-    sqlite::ReadTransaction read(*db);
-    auto s = db->prepare(
-        "SELECT 1 FROM jobs j JOIN results r ON r.job_id = j.id WHERE j.identity = ?");
-    for (const ImportedRun& run : f.runs) {
-      s.reset();
-      s.bind(1, run.job.identity);
-      if (s.step()) have_result.insert(run.job.identity);
+// The artifact folders an import writes: removed when the import ends, but those its commit
+// names.
+struct ImportStore::Staging {
+  explicit Staging(ArtifactFiles& f) : files(f) {}
+
+  ArtifactFiles& files;
+  std::string batch = random_hex(4);
+  std::vector<std::string> folders;
+  std::set<std::string> keep;
+
+  ~Staging() {
+    for (const std::string& f : folders) {
+      if (!keep.count(f)) files.remove(f);
     }
-  }
-  struct Written {
-    std::string folder;
-    std::vector<std::string> paths;
-  };
-  std::vector<std::optional<Written>> written(f.runs.size());
-  struct RemoveUnlessKept {
-    ArtifactFiles& files;
-    std::vector<std::optional<Written>>& written;
-    std::set<std::string> keep;
-    ~RemoveUnlessKept() {
-      for (const auto& w : written) {
-        if (w && !keep.count(w->folder)) files.remove(w->folder);
-      }
-    }
-  } guard{db_.files, written, {}};
-  const std::string batch = random_hex(4);
-  for (std::size_t i = 0; i < f.runs.size(); ++i) {
-    const ImportedRun& run = f.runs[i];
-    if (have_result.count(run.job.identity)) continue;
-    Written w;
-    w.folder = "import-" + run.origin_database.substr(0, 8) + "-" + std::to_string(run.origin_job) +
-               "-" + batch;
-    written[i] = w;  // named before writing: a failed write leaves nothing behind either way
-    written[i]->paths = db_.files.write(w.folder, run.result.artifacts);
   }
 
+  // Writes the run's files (without waiting for the disk: merge_staged does, once) and
+  // releases their bytes.
+  void write(ImportedRun& run) {
+    run.staged_folder = "import-" + run.origin_database.substr(0, 8) + "-" +
+                        std::to_string(run.origin_job) + "-" + batch;
+    folders.push_back(run.staged_folder);  // named before writing: a failed write leaves nothing
+    run.staged_paths = files.write(run.staged_folder, run.result.artifacts, false);
+    release(run);
+  }
+
+  static void release(ImportedRun& run) {
+    for (Artifact& a : run.result.artifacts) {
+      a.file_size = a.data.size();
+      std::string().swap(a.data);
+    }
+  }
+};
+
+namespace {
+
+bool has_result(sqlite::Database& db, const std::string& identity) {
+  auto s = db.prepare("SELECT 1 FROM jobs j JOIN results r ON r.job_id = j.id WHERE j.identity = ?");
+  s.bind(1, identity);
+  return s.step();
+}
+
+[[noreturn]] void refuse(const std::string& field, const std::string& message) {
+  throw ApiError(422, field, message);
+}
+
+// Provenance that names this database must be true of it; a run of another database must not be
+// here already with another scene (import_store.hpp).
+void check_provenance(sqlite::Database& w, const ExportFile& f, const std::string& own,
+                      std::optional<std::int64_t> own_sweep) {
+  auto own_job = w.prepare(
+      "SELECT j.identity, r.origin_database IS NULL FROM jobs j JOIN results r ON r.job_id = j.id"
+      " WHERE j.id = ?");
+  auto in_sweep = w.prepare(
+      "SELECT 1 FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
+      " WHERE sj.sweep_id = ? AND j.identity = ?");
+  auto claimed = w.prepare(
+      "SELECT j.id, j.identity FROM results r JOIN jobs j ON j.id = r.job_id"
+      " WHERE r.origin_database = ?1 AND r.origin_job = ?2"
+      " UNION ALL SELECT j.id, j.identity FROM result_conflicts c JOIN jobs j ON j.id = c.job_id"
+      " WHERE c.origin_database = ?1 AND c.origin_job = ?2 LIMIT 1");
+  for (std::size_t i = 0; i < f.runs.size(); ++i) {
+    const ImportedRun& run = f.runs[i];
+    const std::string path = "runs[" + std::to_string(i) + "]";
+    if (own_sweep) {
+      in_sweep.reset();
+      in_sweep.bind(1, *own_sweep).bind(2, run.job.identity);
+      if (!in_sweep.step()) {
+        refuse(path, "sweep.origin names this database's sweep " + std::to_string(*own_sweep) +
+                         ", which does not hold this run");
+      }
+    }
+    if (run.origin_database == own) {
+      own_job.reset();
+      own_job.bind(1, run.origin_job);
+      if (!own_job.step() || own_job.text(0) != run.job.identity || own_job.int64(1) == 0) {
+        refuse(path + ".origin", "names job " + std::to_string(run.origin_job) +
+                                     " of this database, which is not this run");
+      }
+      continue;
+    }
+    claimed.reset();
+    claimed.bind(1, run.origin_database).bind(2, run.origin_job);
+    if (claimed.step() && claimed.text(1) != run.job.identity) {
+      refuse(path + ".origin", "database " + run.origin_database + "'s job " +
+                                   std::to_string(run.origin_job) + " is here already, as job " +
+                                   std::to_string(claimed.int64(0)) + ", with another scene");
+    }
+  }
+}
+
+}  // namespace
+
+ImportOutcome ImportStore::import_file(std::FILE* in, const std::string& importer, Millis now) {
+  std::lock_guard one_at_a_time(import_mutex_);
+  Staging staging(db_.files);
+  std::vector<ImportedRun> runs;
+  ExportFile f;
+  {
+    auto db = db_.readers.take();
+    f = read_export(in, [&](ImportedRun& run) {
+      if (has_result(*db, run.job.identity)) {
+        Staging::release(run);  // its files are here already
+      } else {
+        staging.write(run);
+      }
+      runs.push_back(std::move(run));
+    });
+  }
+  f.runs = std::move(runs);
+  ImportOutcome out = merge_staged(f, now, importer, staging);
+  f = ExportFile();
+  // The parse's many small blocks go back to the system, not only to the heap's free lists.
+  ::malloc_trim(0);
+  return out;
+}
+
+ImportOutcome ImportStore::merge(ExportFile f, Millis now, const std::string& importer) {
+  Staging staging(db_.files);
+  {
+    auto db = db_.readers.take();
+    for (ImportedRun& run : f.runs) {
+      if (run.staged_folder.empty() && !has_result(*db, run.job.identity)) staging.write(run);
+    }
+  }
+  return merge_staged(f, now, importer, staging);
+}
+
+ImportOutcome ImportStore::merge_staged(const ExportFile& f, Millis now,
+                                        const std::string& importer, Staging& staging) {
+  const std::string own = database_id();
+  db_.files.wait_synced();  // the staged files are on disk before a commit names them
   std::unique_lock lock(db_.write_mutex);
   sqlite::Transaction tx(db_.writer);
   sqlite::Database& w = db_.writer;
@@ -110,20 +203,27 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
   out.runs = static_cast<std::int64_t>(f.runs.size());
 
   // The sweep: the one made for this source sweep before, the sweep itself when it was made
-  // here, or a new imported sweep.
+  // here (and holds every run of the file), or a new imported sweep.
   const bool ours = f.sweep.origin_database == own;
   auto find_sweep = w.prepare(
       ours ? "SELECT id FROM sweeps WHERE id = ?2 AND origin_database IS NULL"
            : "SELECT id FROM sweeps WHERE origin_database = ?1 AND origin_sweep = ?2");
   find_sweep.bind(1, f.sweep.origin_database).bind(2, f.sweep.origin_sweep);
-  if (find_sweep.step()) {
+  const bool found = find_sweep.step();
+  if (ours && !found) {
+    refuse("sweep.origin.sweep", "names sweep " + std::to_string(f.sweep.origin_sweep) +
+                                     " of this database, which has no such sweep");
+  }
+  check_provenance(w, f, own, ours ? std::optional<std::int64_t>(f.sweep.origin_sweep) : std::nullopt);
+  if (found) {
     out.sweep_id = find_sweep.int64(0);
   } else {
     const json origin = {{"source", json::parse(f.source)},
                          {"source_sweep", f.sweep.source_id},
                          {"created_at", f.sweep.created_at},
                          {"exported_at", f.exported_at},
-                         {"imported_at", now}};
+                         {"imported_at", now},
+                         {"imported_by", importer}};
     w.prepare(
          "INSERT INTO sweeps (name, request, priority, created_at, origin_database, origin_sweep,"
          " origin) VALUES (?, ?, ?, ?, ?, ?, ?)")
@@ -177,7 +277,7 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
       has_result = find.int64(2) != 0;
     }
     find.reset();
-    if (!has_result && !written[i]) {
+    if (!has_result && run.staged_folder.empty()) {
       // A result that was here when the files were planned can never leave (results are never
       // deleted), so this is a bug, not a race.
       throw sqlite::Error("import: a job lost its result during the import");
@@ -204,10 +304,10 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
           .bind(18, run.job.structure)
           .run();
       job_id = w.last_insert_rowid();
-      insert_imported(w, job_id, run, written[i]->paths, now);
+      insert_imported(w, job_id, run, run.staged_paths, now);
       log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
                 provenance_note(run));
-      guard.keep.insert(written[i]->folder);
+      staging.keep.insert(run.staged_folder);
       ++out.added;
     } else if (!has_result) {
       fill_job.reset();
@@ -217,11 +317,12 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
           .bind(4, run.started_at)
           .bind(5, run.finished_at)
           .run();
-      insert_imported(w, job_id, run, written[i]->paths, now);
+      insert_imported(w, job_id, run, run.staged_paths, now);
       log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
                 provenance_note(run) + " (was " + state + ")");
-      guard.keep.insert(written[i]->folder);
+      staging.keep.insert(run.staged_folder);
       ++out.filled;
+      out.filled_jobs.push_back(job_id);
     } else {
       stored.reset();
       stored.bind(1, job_id);
@@ -268,7 +369,7 @@ ImportOutcome ImportStore::merge(const ExportFile& f, Millis now) {
     if (w.changes() > 0) ++out.linked;
     if (run.human_label &&
         LabelStore::import_label(w, job_id, *run.human_label,
-                                 "imported from database " + f.source_database)) {
+                                 "imported from database " + f.source_database, importer, now)) {
       ++out.labels;
     }
   }

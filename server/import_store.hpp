@@ -12,12 +12,21 @@
 //  - a job with a result that differs: the stored result stays (a result is never
 //    overwritten), the imported one is kept in result_conflicts with its provenance, once per
 //    source run;
-//  - a human label comes along when the job has none here (a label set here stays).
-// An import that would change nothing (the same file again) writes nothing.
+//  - a human label comes along when the job has none here (a label set here stays), marked
+//    imported, with the importer's token and time beside what the source claims (who, when).
+// Provenance that names this database is checked against it, never taken on trust: a sweep
+// origin naming this database must be a sweep made here that holds every run of the file, and a
+// run origin naming it must be that very job with its own result. A run of another database is
+// here at most once: a second run claiming the same origin with another scene is refused.
+// An import that would change nothing (the same file again) writes nothing; a refused one
+// leaves no row and no file.
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include "export_format.hpp"
 #include "store_db.hpp"
@@ -35,6 +44,7 @@ struct ImportOutcome {
   std::int64_t conflicts_known = 0;  // that conflict was recorded by an earlier import
   std::int64_t linked = 0;           // jobs newly linked to the sweep
   std::int64_t labels = 0;           // human labels brought along
+  std::vector<std::int64_t> filled_jobs;  // the jobs that were filled (their checkpoints go)
   bool changed() const {
     return sweep_created || added + filled + conflicts + linked + labels > 0;
   }
@@ -47,15 +57,27 @@ class ImportStore {
   // This database's id (migration 0005), named as the source of its exports.
   std::string database_id();
 
-  // Writes the new results' artifact files (outside the write lock), then merges in one
-  // transaction; on any error nothing is stored and the files are removed.
-  ImportOutcome merge(const ExportFile& file, Millis now);
+  // Reads an export file from `in` (read_export's streaming form) and merges it: each run's
+  // files are written as the run is read (unless its computation has a result here already) and
+  // its bytes released, then the merge is one transaction; on any error nothing is stored and
+  // the files are removed. One import at a time: a second waits, so imports sent in parallel
+  // cost one import's memory. importer: the token that asked (tokens.hpp), for the labels.
+  ImportOutcome import_file(std::FILE* in, const std::string& importer, Millis now);
+
+  // Merges a file read in memory: writes the new results' artifact files (outside the write
+  // lock), then merges in one transaction, as import_file does.
+  ImportOutcome merge(ExportFile file, Millis now, const std::string& importer = "open");
 
   // The results of other servers that differ from a job's stored one (JSON text per row).
   std::vector<std::string> conflicts(std::int64_t job_id);
 
  private:
+  struct Staging;
+  ImportOutcome merge_staged(const ExportFile& f, Millis now, const std::string& importer,
+                             Staging& staging);
+
   StoreDb& db_;
+  std::mutex import_mutex_;
 };
 
 }  // namespace compaction::server

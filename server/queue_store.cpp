@@ -89,7 +89,7 @@ void insert_result(sqlite::Database& w, std::int64_t job_id, const ResultRecord&
     art.bind(1, job_id)
         .bind(2, a.name)
         .bind(3, a.content_type)
-        .bind(4, static_cast<std::int64_t>(a.data.size()))
+        .bind(4, static_cast<std::int64_t>(a.file_size.value_or(a.data.size())))
         .bind(5, paths[i])
         .run();
   }

@@ -31,6 +31,9 @@ struct Artifact {
   std::string name;
   std::string content_type;
   std::string data;
+  // Set when the bytes were written to the artifact's file and released from `data` (an
+  // import writes each run's files as it reads them): the file's size.
+  std::optional<std::size_t> file_size;
 };
 struct ResultRecord {
   std::string status;  // "ok" or "unstable"

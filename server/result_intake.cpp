@@ -155,7 +155,7 @@ ResultRecord intake_result(const std::string& summary_text, const std::string& j
     for (const auto& a : r.artifacts) {
       if (a.name == f.name) invalid("files[" + f.name + "]", "appears twice");
     }
-    r.artifacts.push_back({f.name, artifact_content_type(f.name), std::move(f.data)});
+    r.artifacts.push_back({f.name, artifact_content_type(f.name), std::move(f.data), std::nullopt});
   }
   return r;
 }

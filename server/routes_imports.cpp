@@ -1,7 +1,9 @@
 // POST /api/v1/imports: merges another server's export (the body, an export file) into this
 // database, as compaction-server --import does (import_store.hpp has the rule). The submit
 // token is checked by the request guard before the body is read; the body is bounded by
-// --max-upload-mb. A file that fails a check is a 422 naming its field, and nothing is stored.
+// --max-upload-mb and goes to a spool file beside the database as it arrives, never into
+// memory whole; the file is then read one run at a time. A file that fails a check is a 422
+// naming its field, and nothing is stored.
 #include <spdlog/spdlog.h>
 
 #include "app.hpp"
@@ -9,16 +11,26 @@
 #include "endpoints.hpp"
 #include "http_util.hpp"
 #include "import_command.hpp"
+#include "spool_file.hpp"
 
 namespace compaction::server {
 
 void register_import_routes(httplib::Server& server, App& app) {
-  add_route(server, endpoints::import_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
-    const ExportFile f = read_export(req.body);
-    const ImportOutcome o = app.store.imports.merge(f, now_ms());
-    spdlog::info("import: sweep {} ({}), {} runs: {} new, {} filled, {} identical, {} conflicting",
-                 o.sweep_id, o.sweep_created ? "created" : "existing", o.runs, o.added, o.filled,
-                 o.identical, o.conflicts);
+  add_streaming_route(server, endpoints::import_sweep,
+                      [&app](const httplib::Request& req, httplib::Response& res,
+                             const httplib::ContentReader& read_body) {
+    SpoolFile body(app.store.db.files.root());
+    const bool complete = read_body([&body](const char* data, std::size_t size) {
+      body.append(data, size);
+      return true;
+    });
+    if (!complete) throw ApiError(400, "body", "the body ended before its Content-Length");
+    const std::string importer = app.options.tokens.identity(req, endpoints::import_sweep.token);
+    const ImportOutcome o = import_export(app.store, body.read(), importer, now_ms());
+    spdlog::info("import by {}: sweep {} ({}), {} runs: {} new, {} filled, {} identical, {} "
+                 "conflicting",
+                 importer, o.sweep_id, o.sweep_created ? "created" : "existing", o.runs, o.added,
+                 o.filled, o.identical, o.conflicts);
     // Local adaptive sweeps may hold jobs that just got their results.
     if (o.added + o.filled > 0) app.adaptive.advance_all(app.store, app.limits, now_ms());
     send_json(res, 200, import_outcome_json(o));

@@ -68,7 +68,7 @@ ResultRecord result_for(Store& store, std::int64_t job_id, const std::string& st
   r.cls = "a";
   r.confidence = 0.9;
   r.summary = "{}";
-  r.artifacts.push_back({"frames.csv", "text/csv", "eps\n0.01\n"});
+  r.artifacts.push_back({"frames.csv", "text/csv", "eps\n0.01\n", std::nullopt});
   return r;
 }
 
@@ -506,7 +506,7 @@ TEST_F(StoreTest, ArtifactsAreFilesBesideTheDatabaseAndAnUploadThatLostItsLeaseL
   store.sweeps.create(plan(points({0.01, 0.02})), t0);
   const auto a = store.queue.lease("w", "test-1", t0);
   ResultRecord r = result_for(store, a->job_id);
-  r.artifacts.push_back({"spacetime.npy", "application/octet-stream", std::string(100000, '\x7f')});
+  r.artifacts.push_back({"spacetime.npy", "application/octet-stream", std::string(100000, '\x7f'), std::nullopt});
   ASSERT_EQ(store.queue.complete(a->job_id, a->token, r, t0 + 1), LeaseCheck::ok);
   const auto npy = store.reads.artifact(a->job_id, "spacetime.npy");
   ASSERT_TRUE(npy);

@@ -286,23 +286,36 @@ TEST_F(ImportTest, HumanLabelsTravelWithTheRunsAndALabelSetHereStays) {
   const std::int64_t sa = create(a, "part A");
   run_all(a, "a");
   const std::int64_t job = map_of(a)["points"][0]["job_id"];
-  ASSERT_EQ(a.labels.set(job, {"b", "two reflections in the space-time map", "ana", t0 + 25}),
+  ASSERT_EQ(a.labels.set(job, {"b", "two reflections in the space-time map", "ana", t0 + 25, "open", std::nullopt}),
             LabelOutcome::ok);
   const json file = json::parse(export_of(a, sa));
   int labelled = 0;
   for (const json& r : file["runs"]) labelled += r["human_label"].is_object();
   EXPECT_EQ(labelled, 1);
 
-  const ImportOutcome o = b.imports.merge(read_export(file.dump()), t0 + 40);
+  const ImportOutcome o = b.imports.merge(read_export(file.dump()), t0 + 40, "submit:carla");
   EXPECT_EQ(o.labels, 1);
   std::int64_t total = 0;
   const auto audit = b.labels.audit(std::nullopt, 10, 0, total);
   ASSERT_EQ(total, 1);
   EXPECT_EQ(audit[0].action, "imported");
-  EXPECT_EQ(audit[0].by, "ana");
+  // Who imported it and when, beside what the source claims (never a date of the source's as
+  // the audit's own).
+  EXPECT_EQ(audit[0].by, "submit:carla");
+  EXPECT_EQ(audit[0].at, t0 + 40);
+  EXPECT_EQ(audit[0].token, "submit:carla");
+  EXPECT_EQ(audit[0].claimed_by, "ana");
+  EXPECT_EQ(audit[0].claimed_at, t0 + 25);
   EXPECT_EQ(audit[0].classifier_label, "a");
   int human_b = 0;
   const json map = map_of(b);
-  for (const json& p : map["points"]) human_b += p["human_label"] == "b";
+  for (const json& p : map["points"]) {
+    if (p["human_label"] != "b") continue;
+    ++human_b;
+    const auto labelled = b.reads.job(p["job_id"]);
+    ASSERT_TRUE(labelled && labelled->job.human_label);
+    EXPECT_EQ(labelled->job.human_label->by, "ana");
+    EXPECT_EQ(labelled->job.human_label->imported_at, t0 + 40);
+  }
   EXPECT_EQ(human_b, 1);
 }
