@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages compaction-sweep builds and runs with (idempotent; needs root or sudo).
 # usage: scripts/install-deps.sh [--bench]
-#   --bench  also numpy and matplotlib, which the study scripts under bench/ (validation,
+#   --bench  also numpy and matplotlib, which the study scripts under studies/ (validation,
 #            accuracy, stability) use for their plots
 set -euo pipefail
 packages=(
