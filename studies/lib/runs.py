@@ -1,4 +1,4 @@
-"""Running compaction-run scenes for the benchmark scripts, cached and in parallel.
+"""Running compaction-run scenes for the study scripts, cached and in parallel.
 
 A scene is a name plus the runner's flags. Its bundle goes to WORK/name; a bundle that exists
 (summary.json written, which the runner does last) is not computed again, so an interrupted
