@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages compaction-sweep builds and runs with (idempotent; needs root or sudo).
 # usage: scripts/install-deps.sh [--bench]
-#   --bench  also numpy and matplotlib, which the study scripts under bench/ (validation,
-#            accuracy, stability) use for their plots
+#   --bench  also matplotlib, which the study scripts under studies/ (validation, accuracy,
+#            stability) use with numpy for their plots
 set -euo pipefail
 packages=(
   cmake ninja-build g++ git pkg-config
@@ -10,13 +10,15 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libcli11-dev
   libeigen3-dev  # header-only: the 3D column's linear algebra, and the tests' independent oracles
   python3 curl
-  # the Python client's venv (docs/python.md): venv with pip and setuptools, and the wheel of
-  # `wheel` that an offline venv builds the package with
-  python3-venv python3-wheel-whl
+  # the Python client (docs/python.md), installed without the Python package index: a venv that
+  # sees Debian's packages (python3-venv brings pip and setuptools), the `wheel` module it builds
+  # the package with (python3-wheel; python3-wheel-whl for a venv that does not see them), and
+  # Debian's pandas and numpy, which its DataFrames and arrays need
+  python3-venv python3-wheel python3-wheel-whl python3-pandas python3-numpy
 )
 for arg in "$@"; do
   case "$arg" in
-    --bench) packages+=(python3-numpy python3-matplotlib) ;;
+    --bench) packages+=(python3-matplotlib) ;;
     *) echo "install-deps.sh: unknown option '$arg' (usage: scripts/install-deps.sh [--bench])" >&2; exit 2 ;;
   esac
 done

@@ -11,9 +11,8 @@ import os
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import queue_bench as q  # noqa: E402
-from http_bench import Server  # noqa: E402
+import queue_bench as q
+from http_bench import Server
 
 for b in sys.argv[1:]:
     s = Server(b, tempfile.mkdtemp(prefix="phase-map-bench-"))

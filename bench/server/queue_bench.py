@@ -41,8 +41,7 @@ import tempfile
 import threading
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from http_bench import REPO, Server, revision_of  # noqa: E402
+from http_bench import REPO, Server, revision_of
 
 CLIENTS = [1, 4, 16, 32]
 ROUNDS, ROUND_SECONDS = 3, 3.0

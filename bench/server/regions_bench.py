@@ -12,9 +12,8 @@ import os
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import queue_bench as q  # noqa: E402
-from http_bench import Server  # noqa: E402
+import queue_bench as q
+from http_bench import Server
 
 s = Server(sys.argv[1], tempfile.mkdtemp(prefix="regions-bench-"))
 try:

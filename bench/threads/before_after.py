@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Engine speed of two builds of compaction-run on one scene, run alternately in one session.
 
 Runs each binary on the large scene (pseudo-1D, phi = 0.4, 40 cells per unit cell, 86 904
@@ -8,7 +7,7 @@ prints a Markdown report: medians of ns per particle-step and of each stage, the
 speed-up of each build and after / before. The bundles' space-time maps of the two builds are
 compared byte for byte on one thread.
 
-usage: bench/threads/before_after.py --before BIN --after BIN [--rounds 3] [--out FILE]
+usage: python3 -m bench.threads.before_after --before BIN --after BIN [--rounds 3] [--out FILE]
 """
 import argparse
 import filecmp
@@ -18,8 +17,7 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
-import runs  # noqa: E402
+from studies.lib import runs
 
 SCENE = {"cells_per_unit": 40, "eps_end": 0.002, "snapshot_eps": "", "movie_d_eps": 0}
 CASES = [(contact, threads) for contact in ("single_field", "split_fields") for threads in (1, 2)]

@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """The time of one long run of an example on N threads, as a researcher would run it.
 
-Runs one of the paper's examples (bench/lib/examples.py; phi = 0.4, pseudo-1D) with
+Runs one of the paper's examples (studies/lib/examples.py; phi = 0.4, pseudo-1D) with
 compaction-run at the resolution and pore contact given (default: the reference preset's
 9 cells across a strut, 40 per unit cell, with its pore contact auto) to --eps-end on
 --threads threads, and writes a Markdown report: wall and CPU time (the runner's own, from
@@ -9,9 +8,8 @@ wait4), ns per particle-step and per stage, the label and both readings of c_b/V
 classifier gives, and the machine's state before the run (load average, CPUs). A single run
 has no median: the report says so, and the engine's per-stage split shows where the time went.
 
-usage: bench/threads/long_run.py [--example b] [--cells-per-strut 9] [--eps-end 0.6]
-                                [--threads 2] [--pore-contact auto] [--bin DIR] [--work DIR]
-                                [--out FILE]
+usage: python3 -m bench.threads.long_run [--example b] [--cells-per-strut 9] [--eps-end 0.6]
+       [--threads 2] [--pore-contact auto] [--bin DIR] [--work DIR] [--out FILE]
 """
 import argparse
 import datetime
@@ -20,9 +18,7 @@ import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
-import examples  # noqa: E402
-import runs  # noqa: E402
+from studies.lib import examples, runs
 
 STAGES = ("p2g", "grid_update", "g2p", "diagnostics")
 
@@ -85,7 +81,7 @@ def main():
     lines = [
         "## (%s) at %g cells across a strut to eps = %g on %d thread(s), pore contact %s"
         % (a.example, a.cells_per_strut, a.eps_end, a.threads, a.pore_contact), "",
-        "Made by `bench/threads/long_run.py %s`, started %s, %d CPUs (%s), load average %.2f "
+        "Made by `python3 -m bench.threads.long_run %s`, started %s, %d CPUs (%s), load average %.2f "
         "%.2f %.2f (1, 5, 15 min) before; checkout at %s, engine %s (source revision %s). One "
         "run: no median; this machine's speed drifts by up to 20 %% within an hour "
         "(bench/results/threads_before_after.md)."

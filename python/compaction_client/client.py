@@ -1,5 +1,6 @@
 """Client of the compaction-sweep REST API (/api/v1, docs/service.md): a submitter and reader,
-never a worker. Standard library only; pandas and numpy are used when importable."""
+never a worker. Standard library only, but for the DataFrames (pandas) and arrays (numpy) some
+methods return, imported when they are called (optional.py)."""
 import json
 import os
 import time
@@ -9,6 +10,7 @@ import urllib.request
 from collections.abc import Iterable, Mapping
 
 from . import npy
+from .optional import require
 from .progress import Bar
 
 # The result fields a row of Client.results carries beside the job's own fields: the result
@@ -100,18 +102,13 @@ def _id(sweep_or_id):
     return sweep_or_id["id"] if isinstance(sweep_or_id, Mapping) else sweep_or_id
 
 
-def _frame(rows, columns, frame):
-    # frame=None: a pandas DataFrame when pandas is importable, else the rows; True: a
-    # DataFrame (ImportError without pandas); False: the rows, a list of dicts.
+def _frame(rows, columns, frame, what):
+    # frame=False: the rows, a list of dicts; otherwise a pandas DataFrame, and without pandas
+    # an ImportError that says so (never the rows in its place).
     if frame is False:
         return rows
-    try:
-        import pandas
-    except ImportError:
-        if frame:
-            raise ImportError("frame=True needs pandas (pip install pandas); "
-                              "frame=False gives a list of dicts") from None
-        return rows
+    pandas = require("pandas", "%s with frame=True (the default)" % what,
+                     "frame=False gives a list of dicts instead")
     return pandas.DataFrame(rows, columns=columns)
 
 
@@ -292,12 +289,11 @@ class Client:
             if bar:
                 bar.close()
 
-    def results(self, sweep, frame=None):
+    def results(self, sweep, frame=True):
         """One row per job of the sweep: the job's fields (job_id, S, R, phi, cells_per_unit,
         eps_end, state, attempts, last_error, worker, timings, ...; not the scene, see job())
         and its result's (RESULT_COLUMNS; None while the job has no result). A pandas DataFrame
-        when pandas is importable (frame=None), else a list of dicts; frame=True insists on a
-        DataFrame, frame=False on the list."""
+        (ImportError without pandas); frame=False gives a list of dicts."""
         export = self._json("GET", "/sweeps/%d/export" % _id(sweep), query={"format": "json"})
         rows, columns = [], None
         for job in export["jobs"]:
@@ -308,16 +304,17 @@ class Client:
             rows.append(row)
             columns = columns or list(row)
         return _frame(rows, columns or ["job_id", "S", "R", "phi", "state", *RESULT_COLUMNS],
-                      frame)
+                      frame, "results()")
 
-    def phase_map(self, phi, sweep=None, frame=None):
+    def phase_map(self, phi, sweep=None, frame=True):
         """The phase map at one phi (of every sweep, or of one): a point per job with S, R,
         state, class, confidence, runner_up, n_reflections, band_speed_ratio, job_id, status,
-        ... As a DataFrame or a list of dicts, chosen by `frame` as in results()."""
+        ... A pandas DataFrame (ImportError without pandas); frame=False gives a list of
+        dicts."""
         query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep)}
         points = self._json("GET", "/phase-map", query=query)["points"]
         columns = list(points[0]) if points else ["S", "R", "phi", "state", "class", "job_id"]
-        return _frame(points, columns, frame)
+        return _frame(points, columns, frame, "phase_map()")
 
     def regions(self, phi, sweep=None, cells_per_unit=None, grid=None):
         """The classes the labelled runs predict over the map at phi, with an uncertainty per
@@ -404,13 +401,12 @@ class Client:
         return [self.download(job_id, a["name"], os.path.join(folder, a["name"]))
                 for a in self.artifacts(job_id)]
 
-    def load_npy(self, job_id, name, array=None):
+    def load_npy(self, job_id, name, array=True):
         """A .npy artifact (spacetime.npy, velocity.npy, snapshot_<eps>.npy) as a numpy array
-        when numpy is importable (array=None), else as nested lists; array=True insists on
-        numpy, array=False on the lists."""
-        return npy.load(self.artifact(job_id, name), array)
+        (ImportError without numpy); array=False gives nested lists of Python numbers."""
+        return npy.load(self.artifact(job_id, name), array, "load_npy()")
 
-    def spacetime(self, job_id, array=None):
+    def spacetime(self, job_id, array=True):
         """The space-time map [n_frames, n_rows] of the job's run (float32: the row-averaged
         plastic strain rate / (V / h0), schema/bundle-format.md); `array` as in load_npy."""
-        return self.load_npy(job_id, "spacetime.npy", array)
+        return npy.load(self.artifact(job_id, "spacetime.npy"), array, "spacetime()")

@@ -1,9 +1,11 @@
-"""Reads NumPy .npy files (format 1.0 to 3.0) from bytes: as a numpy array when numpy is
-importable, else as nested lists of Python numbers built with the standard library."""
+"""Reads NumPy .npy files (format 1.0 to 3.0) from bytes: as a numpy array, or as nested lists
+of Python numbers built with the standard library."""
 import ast
 import struct
 import sys
 from array import array as _array
+
+from .optional import require
 
 MAGIC = b"\x93NUMPY"
 
@@ -91,22 +93,16 @@ def _lists(data, h):
     return _to_lists(values.tolist(), h.shape)
 
 
-def load(data, array=None):
-    """The array in `data` (the bytes of a .npy file). array=None: a numpy array when numpy is
-    importable, else nested lists; True: a numpy array (ImportError without numpy); False:
-    nested lists."""
+def load(data, array=True, what="load()"):
+    """The array in `data` (the bytes of a .npy file): a numpy array (ImportError naming `what`
+    without numpy), or with array=False nested lists."""
     h = parse_header(data)
-    if array is not False:
-        try:
-            import numpy
-        except ImportError:
-            if array:
-                raise ImportError("array=True needs numpy (pip install numpy); "
-                                  "array=False gives nested lists") from None
-        else:
-            dtype = numpy.dtype(h.descr)
-            if len(data) < h.data_offset + h.count * dtype.itemsize:
-                raise NpyError("the data are cut short")
-            return numpy.frombuffer(data, dtype=dtype, count=h.count,
-                                    offset=h.data_offset).reshape(h.shape)
-    return _lists(data, h)
+    if array is False:
+        return _lists(data, h)
+    numpy = require("numpy", "%s with array=True (the default)" % what,
+                    "array=False gives nested lists instead")
+    dtype = numpy.dtype(h.descr)
+    if len(data) < h.data_offset + h.count * dtype.itemsize:
+        raise NpyError("the data are cut short")
+    return numpy.frombuffer(data, dtype=dtype, count=h.count,
+                            offset=h.data_offset).reshape(h.shape)

@@ -1,0 +1,1 @@
+"""Benchmarks of speed; bench/threads runs as modules (python3 -m bench.threads.long_run)."""

@@ -1,0 +1,1 @@
+"""Numerical stability over the (S, R, phi) box and under pathological numerics (README.md)."""

@@ -1,0 +1,1 @@
+"""Validation against the paper's examples: labels, band speeds, Fig. 3, invariance, solid fractions, random structures, 3D (README.md)."""
