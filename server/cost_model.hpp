@@ -25,7 +25,7 @@ inline constexpr double kBsplineFactor = 1.30;
 // G2P's node pairs made the one-field default faster; 2.03 before the two-field transfers
 // were vectorised).
 inline constexpr double kSplitFieldsFactor = 1.76;
-// Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; docs/savings.md).
+// Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; studies/savings/README.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
 
 // Particles: the solid share phi of the specimen's grid cells, particles_per_cell^2 in each

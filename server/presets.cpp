@@ -5,8 +5,8 @@ namespace compaction::server {
 const std::vector<Preset>& presets() {
   // Resolution is counted across the thinnest strut, L (1 - sqrt(1 - phi)), so that a preset
   // means the same accuracy at every phi (8, 20 and 40 cells per unit cell at phi = 0.4). The
-  // errors are those of docs/validation/solid-fractions-split-fields.md (default) and
-  // docs/reference.md (fast) for the band of example (a). The default preset's numbers are the
+  // errors are those of studies/validation/results/solid-fractions-split-fields.md (default) and
+  // studies/reference/README.md (fast) for the band of example (a). The default preset's numbers are the
   // engine's defaults (SceneParams), which the scene schema serves to the scripts.
   static const SceneParams engine_default;
   static const std::vector<Preset> all = {

@@ -3,7 +3,7 @@
 // discrete equations change with them by scale factors only. The examples (a) and (b) with
 // q_y x 40 and rho x 0.1 must give the same label, N_r and band speed to round-off. Run at 8
 // cells per unit cell (about 5 s each): the symmetry holds at every resolution; that the
-// labels are right needs a finer grid (classify_band_a_gtest, docs/validation/invariance.md).
+// labels are right needs a finer grid (classify_band_a_gtest, studies/validation/results/invariance.md).
 #include <gtest/gtest.h>
 
 #include "compaction/classify.hpp"

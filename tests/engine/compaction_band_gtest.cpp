@@ -185,7 +185,7 @@ TEST(CompactionBandGtest, NonReflectingBandRunsAtThePapersSpeedWhenStrutsAreReso
 // runs) at the default preset's 20 cells per unit cell: the faces of a pore meet before they
 // interact, so the pores close behind the front and the band runs at the paper's speed. The
 // engine issue's target: within 5 % of 1 / (1 - phi) at the default preset (measured here
-// 1.732, +3.9 %; +2.7 % by the fit to eps = 0.2 of docs/accuracy/pore-contact.md), where one
+// 1.732, +3.9 %; +2.7 % by the fit to eps = 0.2 of studies/pore_contact/results/pore-contact.md), where one
 // field gives +14 % at 20 cells (docs/engine.md). The pores close behind the front: phi_f above
 // 0.9, where one field leaves 0.84 at 20 cells (docs/engine.md; measured here 0.909 at the
 // snapshot, eps = 0.12: slits of a cell or less stay until the merge at an eighth of a cell),

@@ -1,5 +1,5 @@
 // The cost model (server/cost_model.hpp) against what runs measured: the particles and the time
-// steps of example (a) at 20 cells per unit cell (docs/savings.md), the factors of the other
+// steps of example (a) at 20 cells per unit cell (studies/savings/README.md), the factors of the other
 // numerics, and the cost's growth with resolution (cells^3) and with 1 / S.
 #include "cost_model.hpp"
 
@@ -24,10 +24,10 @@ SceneParams example_a() {
 TEST(CostModel, particles_and_steps_match_the_measured_run_of_example_a) {
   const SceneParams p = example_a();
   // Tolerance 0.5 %: the model counts phi x the grid's particles (21 760), the scene builder
-  // drops those whose centre falls in a hole (21 726 measured, docs/savings.md).
+  // drops those whose centre falls in a hole (21 726 measured, studies/savings/README.md).
   EXPECT_NEAR(cost::particles(p), 21726, 0.005 * 21726);
   // Tolerance 0.5 %: the model's fastest particle is the plate (V); the engine's step takes the
-  // fastest particle each step (237 626 steps measured, docs/savings.md).
+  // fastest particle each step (237 626 steps measured, studies/savings/README.md).
   EXPECT_NEAR(cost::steps(p), 237626, 0.005 * 237626);
   EXPECT_DOUBLE_EQ(cost::cpu_seconds(p),
                    cost::particles(p) * cost::steps(p) * cost::kNsPerParticleStep * 1e-9);
