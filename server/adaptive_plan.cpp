@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "api_error.hpp"
+#include "json_input.hpp"
 #include "compaction/number_text.hpp"
 #include "compaction/params.hpp"
 #include "planner.hpp"
@@ -64,9 +65,9 @@ AxisRange parse_axis(const json& a, const std::string& field, const Range& range
 
 long long integer_at_least(const json& v, const std::string& field, long long lo) {
   if (!v.is_number_integer()) invalid(field, "must be an integer, got " + describe(v));
-  const long long i = v.get<long long>();
-  if (i < lo) invalid(field, "must be at least " + std::to_string(lo) + ", got " + std::to_string(i));
-  return i;
+  const auto i = as_int64(v);
+  if (!i || *i < lo) invalid(field, "must be at least " + std::to_string(lo) + ", got " + describe(v));
+  return *i;
 }
 
 double decades(const AxisRange& a) { return std::log10(a.max) - std::log10(a.min); }

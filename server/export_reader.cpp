@@ -11,6 +11,7 @@
 // every document built has a budget of values: a file of millions of empty objects is refused at
 // its first run instead of filling memory.
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -46,11 +47,12 @@ std::string field(const std::string& path, const char* key) {
 std::int64_t integer(const json& obj, const std::string& path, const char* key, std::int64_t lo,
                      std::int64_t hi) {
   const json& v = member(obj, path, key);
-  if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > hi) {
+  const auto i = as_int64(v);
+  if (!i || *i < lo || *i > hi) {
     invalid(field(path, key), "must be an integer in [" + std::to_string(lo) + ", " +
                                   std::to_string(hi) + "], got " + describe(v));
   }
-  return v.get<std::int64_t>();
+  return *i;
 }
 
 std::optional<std::int64_t> optional_time(const json& obj, const std::string& path, const char* key) {
@@ -93,6 +95,9 @@ std::optional<HumanLabel> read_human_label(const json& run, const std::string& p
     invalid(p + ".label", "must be one of a, b, c, d, e, f");
   }
   l.reason = text(h, p, "reason", kLabelReasonMaxBytes, false);
+  if (has_control_characters(l.reason, true)) {
+    invalid(p + ".reason", "must be UTF-8 text without control characters but newlines and tabs");
+  }
   l.by = text(h, p, "by", kLabelByMaxBytes);
   l.at = time_ms(h, p, "at");
   return l;
@@ -194,23 +199,29 @@ ImportedRun read_run(const json& run, const std::string& path, const std::string
 namespace {
 
 // Values a document of the file may hold: a sweep's request (2 000 points of 4 values), a run
-// (its summary's features, a few hundred values, and its artifacts).
+// (its summary's features, a few hundred values, and its artifacts); and the bytes of the text
+// in a member of the head (a run's text is its artifacts': the body's limit bounds it).
 constexpr std::size_t kMaxMemberValues = 100'000;
 constexpr std::size_t kMaxRunValues = 100'000;
+constexpr std::size_t kMaxMemberTextBytes = 2 << 20;
+constexpr std::size_t kNoTextLimit = std::numeric_limits<std::size_t>::max();
 // A sweep's request as accepted here: the body limit of POST /api/v1/sweeps.
 constexpr std::size_t kMaxRequestBytes = 1 << 20;
 
 // One JSON document built from SAX events, refused beyond a number of values or a depth.
 class Builder {
  public:
-  Builder(std::string field, std::size_t max_values, int outer_depth)
-      : field_(std::move(field)), max_values_(max_values), outer_depth_(outer_depth) {}
+  Builder(std::string field, std::size_t max_values, std::size_t max_text, int outer_depth)
+      : field_(std::move(field)), max_values_(max_values), max_text_(max_text), outer_depth_(outer_depth) {}
 
   bool done() const { return done_; }
   json take() { return std::move(root_); }
 
   void value(json v) {
     count();
+    if (v.is_string() && (text_ += v.get_ref<const std::string&>().size()) > max_text_) {
+      invalid(here(), "holds more than " + std::to_string(max_text_) + " bytes of text");
+    }
     if (stack_.empty()) {
       root_ = std::move(v);
       done_ = true;
@@ -225,6 +236,7 @@ class Builder {
       invalid(field_, "malformed JSON: nested deeper than " + std::to_string(max_json_depth) + " levels");
     }
     count();
+    path_.push_back(stack_.empty() ? "" : step());
     json* at;
     if (stack_.empty()) {
       root_ = std::move(container);
@@ -237,9 +249,15 @@ class Builder {
     }
     stack_.push_back(at);
   }
-  void key(std::string k) { key_ = std::move(k); }
+  void key(std::string k) {
+    key_ = std::move(k);
+    if ((text_ += key_.size()) > max_text_) {
+      invalid(here(), "holds more than " + std::to_string(max_text_) + " bytes of text");
+    }
+  }
   void close() {
     stack_.pop_back();
+    path_.pop_back();
     if (stack_.empty()) done_ = true;
   }
 
@@ -250,11 +268,27 @@ class Builder {
     }
   }
 
+  // The next value's place in its container: ".key" or "[index]".
+  std::string step() const {
+    std::string s(1, stack_.back()->is_object() ? '.' : '[');
+    if (stack_.back()->is_object()) return s.append(key_);
+    return s.append(std::to_string(stack_.back()->size())).append(1, ']');
+  }
+  // The field of the next value, as the file names it ("sweep.request.padding").
+  std::string here() const {
+    std::string f = field_;
+    for (const std::string& p : path_) f += p;
+    return stack_.empty() ? f : f + step();
+  }
+
   std::string field_;
   std::size_t max_values_;
+  std::size_t max_text_;
+  std::size_t text_ = 0;
   int outer_depth_;
   json root_;
   std::vector<json*> stack_;
+  std::vector<std::string> path_;  // how each open container is reached from its parent
   std::string key_;
   std::size_t values_ = 0;
   bool done_ = false;
@@ -358,7 +392,7 @@ class ExportSax {
       skipping_ = 1;
       return true;
     }
-    builder_.emplace(member_, kMaxMemberValues, 1);
+    builder_.emplace(member_, kMaxMemberValues, kMaxMemberTextBytes, 1);
     builder_->open(std::move(container));
     return true;
   }
@@ -379,7 +413,7 @@ class ExportSax {
   }
 
   void start_run() {
-    builder_.emplace("runs[" + std::to_string(run_index_) + "]", kMaxRunValues, 2);
+    builder_.emplace("runs[" + std::to_string(run_index_) + "]", kMaxRunValues, kNoTextLimit, 2);
   }
 
   void finish() {

@@ -73,15 +73,15 @@ std::optional<long long> to_int(const std::string& s) {
   return v;
 }
 
-// A query's number: the whole text, decimal only (no hex, no "nan", no "inf"), finite.
-std::optional<double> to_finite_real(const std::string& s) {
+}  // namespace
+
+std::optional<double> decimal_number(const std::string& s) {
   double v = 0;
   const char* end = s.data() + s.size();
   const auto [ptr, ec] = std::from_chars(s.data(), end, v);
   if (s.empty() || ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
   return v;
 }
-}  // namespace
 
 std::int64_t path_id(const httplib::Request& req, int match_index, const char* what) {
   const auto v = to_int(req.matches[match_index]);
@@ -109,7 +109,7 @@ std::optional<std::int64_t> query_id(const httplib::Request& req, const char* na
 std::optional<double> query_number(const httplib::Request& req, const char* name) {
   if (!req.has_param(name)) return std::nullopt;
   const std::string s = req.get_param_value(name);
-  const auto v = to_finite_real(s);
+  const auto v = decimal_number(s);
   if (!v) throw ApiError(422, name, "must be a finite number, got " + describe(json(valid_utf8(s))));
   return *v;
 }

@@ -34,6 +34,11 @@ nlohmann::json parse_json_body(const httplib::Request& req);
 // Path ids: positive integers (the route's regex guarantees digits; too large -> 404).
 std::int64_t path_id(const httplib::Request& req, int match_index, const char* what);
 
+// A number given as text (a query parameter, a form field): the whole text in decimal (no
+// spaces, no hex, no "nan" or "inf"), finite and not beyond double's range either way (1e-400
+// is refused, not read as 0).
+std::optional<double> decimal_number(const std::string& text);
+
 // Query parameters: absent -> fallback/nullopt; malformed or out of range -> 422 naming it.
 int query_int(const httplib::Request& req, const char* name, int fallback, int lo, int hi);
 std::optional<std::int64_t> query_id(const httplib::Request& req, const char* name);

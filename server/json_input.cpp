@@ -1,5 +1,7 @@
 #include "json_input.hpp"
 
+#include <limits>
+
 #include "api_error.hpp"
 
 namespace compaction::server {
@@ -27,6 +29,16 @@ int json_nesting_depth(std::string_view text, int limit) {
     }
   }
   return deepest;
+}
+
+std::optional<std::int64_t> as_int64(const nlohmann::json& v) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return std::nullopt;
+    return static_cast<std::int64_t>(u);
+  }
+  if (v.is_number_integer()) return v.get<std::int64_t>();
+  return std::nullopt;
 }
 
 nlohmann::json parse_client_json(std::string_view text, const std::string& field, int status) {

@@ -3,6 +3,8 @@
 // (nlohmann's parser refuses anything else) and no NaN or infinite numbers.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -16,6 +18,11 @@ constexpr int max_json_depth = 64;
 // The deepest nesting of arrays and objects in the text, counting outside strings; stops
 // counting at limit + 1.
 int json_nesting_depth(std::string_view text, int limit = max_json_depth);
+
+// The value of an integer JSON number as a signed 64-bit integer; nothing for any other value,
+// and for an integer beyond the signed range (nlohmann keeps 2^63 and above unsigned, where
+// get<std::int64_t>() would wrap to a negative number).
+std::optional<std::int64_t> as_int64(const nlohmann::json& v);
 
 // Parses text or throws ApiError(status, field, reason): "malformed JSON" or "nested deeper
 // than 64 levels".

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "api_error.hpp"
+#include "json_input.hpp"
 #include "safe_text.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/number_text.hpp"
@@ -42,12 +43,12 @@ int integer_in(const json& body, const char* key, int fallback, int lo, int hi) 
   if (!body.contains(key)) return fallback;
   const json& v = body[key];
   if (!v.is_number_integer()) invalid(key, std::string("must be an integer, got ") + describe(v));
-  const auto i = v.get<long long>();
-  if (i < lo || i > hi) {
+  const auto i = as_int64(v);
+  if (!i || *i < lo || *i > hi) {
     invalid(key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                     std::to_string(i));
+                     describe(v));
   }
-  return static_cast<int>(i);
+  return static_cast<int>(*i);
 }
 
 // numerics.seeds: 1 to kMaxSeeds distinct non-negative integers.
@@ -219,8 +220,9 @@ std::vector<double> expand_axis(const json& axis, const std::string& field,
   if (!axis["n"].is_number_integer()) {
     invalid(field + ".n", "must be an integer, got " + describe(axis["n"]));
   }
-  const long long n = axis["n"].get<long long>();
-  if (n < 1) invalid(field + ".n", "must be at least 1, got " + std::to_string(n));
+  const auto given = as_int64(axis["n"]);
+  if (!given || *given < 1) invalid(field + ".n", "must be at least 1, got " + describe(axis["n"]));
+  const long long n = *given;
   if (static_cast<unsigned long long>(n) > max_points) {
     invalid(field + ".n", std::to_string(n) + " values exceed the sweep limit of " +
                               std::to_string(max_points) + " points", 413);

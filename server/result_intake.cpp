@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "api_error.hpp"
+#include "compaction/bundle_check.hpp"
+#include "summary_schema.hpp"
 #include "safe_text.hpp"
 #include "compaction/params_json.hpp"
 #include "json_input.hpp"
@@ -99,10 +101,13 @@ ResultRecord intake_result(const std::string& summary_text, const std::string& j
   if (!summary.is_object()) {
     invalid("summary", "must be a JSON object (the bundle's summary.json)");
   }
+  if (const auto problem = check_summary_schema(summary)) {
+    invalid(problem->field.empty() ? "summary" : "summary." + problem->field, problem->message);
+  }
   ResultRecord r;
   r.summary = summary.dump();
 
-  const std::string status = summary.value("status", std::string());
+  const std::string status = summary["status"].get<std::string>();
   if (status == "cancelled") {
     invalid("summary.status", "a cancelled run is not a result; release or fail the job instead");
   }
@@ -154,6 +159,13 @@ ResultRecord intake_result(const std::string& summary_text, const std::string& j
     }
     for (const auto& a : r.artifacts) {
       if (a.name == f.name) invalid("files[" + f.name + "]", "appears twice");
+    }
+    if (const auto problem = compaction::bundle_file_problem(f.name, f.data)) {
+      invalid("files[" + f.name + "]", *problem);
+    }
+    // The bundle's summary.json, when it comes as a file too, is the summary above.
+    if (f.name == "summary.json" && json::parse(f.data) != summary) {
+      invalid("files[summary.json]", "differs from the summary field");
     }
     r.artifacts.push_back({f.name, artifact_content_type(f.name), std::move(f.data), std::nullopt});
   }

@@ -6,7 +6,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdlib>
 
 #include <spdlog/spdlog.h>
 
@@ -14,6 +13,7 @@
 #include "clock.hpp"
 #include "endpoints.hpp"
 #include "http_util.hpp"
+#include "json_input.hpp"
 #include "safe_text.hpp"
 
 namespace compaction::server {
@@ -32,14 +32,13 @@ std::int64_t form_step(const std::string& text) {
   return v;
 }
 
-// A form field's text as a finite number in [0, 1].
+// A form field's text as a decimal number in [0, 1] (decimal_number: no spaces, no hex).
 double form_eps(const std::string& text) {
-  char* end = nullptr;
-  const double v = text.empty() ? NAN : std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || v < 0.0 || v > 1.0) {
-    throw ApiError(422, "eps", "must be a number in [0, 1], got " + describe(json(valid_utf8(text.substr(0, 40)))));
+  const auto v = decimal_number(text);
+  if (!v || *v < 0.0 || *v > 1.0) {
+    throw ApiError(422, "eps", "must be a decimal number in [0, 1], got " + describe(json(valid_utf8(text.substr(0, 40)))));
   }
-  return v;
+  return *v;
 }
 
 void check(LeaseCheck c) {
@@ -95,11 +94,12 @@ std::optional<ResumeReport> parse_resume_report(const json& body) {
     }
   }
   ResumeReport out;
-  if (!r.contains("step") || !r["step"].is_number_integer() || r["step"].get<std::int64_t>() < 0) {
+  const auto step = r.contains("step") ? as_int64(r["step"]) : std::nullopt;
+  if (!step || *step < 0) {
     throw ApiError(422, "resumed.step",
                    "must be an integer >= 0, got " + describe(r.value("step", json())));
   }
-  out.step = r["step"].get<std::int64_t>();
+  out.step = *step;
   if (!r.contains("eps") || !r["eps"].is_number() || !std::isfinite(r["eps"].get<double>()) ||
       r["eps"].get<double>() < 0.0 || r["eps"].get<double>() > 1.0) {
     throw ApiError(422, "resumed.eps",

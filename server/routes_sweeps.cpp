@@ -19,10 +19,15 @@ using nlohmann::json;
 
 namespace {
 
+// One cell: numbers as JSON writes them; text quoted when it holds a separator, and, as OWASP
+// recommends against CSV injection, a text cell that a spreadsheet would read as a formula
+// (starting with =, +, -, @, a tab or a carriage return) gets a leading ' and quotes.
 std::string csv_field(const json& v) {
   if (v.is_null()) return "";
   std::string s = v.is_string() ? v.get<std::string>() : v.dump();
-  if (s.find_first_of(",\"\n\r") != std::string::npos) {
+  const bool formula = v.is_string() && !s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos;
+  if (formula) s = "'" + s;
+  if (formula || s.find_first_of(",\"\n\r") != std::string::npos) {
     std::string q = "\"";
     for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
     return q + "\"";

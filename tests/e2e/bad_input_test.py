@@ -50,6 +50,10 @@ cases = [
     ("stale fail", "POST", job + "/fail", {"lease_token": stale, "reason": "x"}, W, 409, "lease_token"),
     ("stale release", "POST", job + "/release", {"lease_token": stale}, W, 409, "lease_token"),
     ("bad filter", "GET", "/api/v1/jobs?state=finished", None, None, 422, "state"),
+    ("priority beyond 64 bits", "POST", "/api/v1/sweeps",
+     b'{"name": "x", "priority": 9223372036854775808, "points": [{"S": 0.05, "R": 0.001, "phi": 0.4}]}',
+     S, 422, "priority"),
+    ("NUL in the path", "GET", "/index.html%00.png", None, None, 400, "request"),
 ]
 for what, method, path, body, token, code, field in cases:
     raw = body if isinstance(body, bytes) else None
@@ -58,6 +62,20 @@ for what, method, path, body, token, code, field in cases:
     check(isinstance(answer, dict) and answer["error"]["field"] == field and answer["error"]["message"],
           "%s: error names %s: %s" % (what, field, answer))
 check(snapshot() == before, "the bad requests changed nothing in the database")
+status, answer = env.request("POST", "/api/v1/sweeps", None, S, raw=cases[-2][3])
+check("9223372036854775808" in answer["error"]["message"],
+      "the priority's message quotes the number sent: %s" % answer)
+
+# The checkpoint form's numbers are decimal, whole and in range ("0.5" is, " 0.5" is not).
+for eps in [" 0.5", "0x1p-3", "1e-400", "nan", "0.5 ", "2"]:
+    boundary = "CkPt"
+    form = "".join('--%s\r\nContent-Disposition: form-data; name="%s"\r\n\r\n%s\r\n' % (boundary, n, v)
+                   for n, v in [("lease_token", stale), ("step", "10"), ("eps", eps),
+                                ("checkpoint", "bytes")]) + "--%s--\r\n" % boundary
+    status, answer = env.request_multipart("POST", job + "/checkpoint", form.encode(), boundary, W)
+    check(status == 422 and answer["error"]["field"] == "eps",
+          "checkpoint eps %r: expected 422 naming eps, got %d %s" % (eps, status, answer))
+check(snapshot() == before, "the refused checkpoints changed nothing")
 
 # The stale token cannot complete either (a raw multipart body; the worker's own uploads are
 # covered by the other end-to-end tests).
@@ -83,7 +101,12 @@ def run(args):
 
 server = os.path.join(env.bin, "compaction-server")
 worker = os.path.join(env.bin, "compaction-worker")
+tokens = os.path.join(env.dir, "tokens")
+with open(tokens, "w") as f:
+    f.write("# role name token\nsubmit ana a-long-secret\nadmin bob another-secret\n")
 for args, flag in [([server, "--port", "70000"], "--port"),
+                   ([server, "--tokens", tokens], "--tokens"),
+                   ([server, "--tokens", os.path.join(env.dir, "missing")], "--tokens"),
                    ([server, "--lease-seconds", "nan"], "--lease-seconds"),
                    ([server, "--host", "0.0.0.0"], "--host"),
                    ([server, "--bogus"], "--bogus"),

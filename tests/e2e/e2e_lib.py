@@ -93,10 +93,11 @@ class Env:
             return f.read()[-4000:]
 
     # --- HTTP ---
-    def request(self, method, path, body=None, token=None, raw=None):
+    def request(self, method, path, body=None, token=None, raw=None,
+                content_type="application/json"):
         data = raw if raw is not None else (json.dumps(body).encode() if body is not None else None)
         req = urllib.request.Request(self.url + path, data=data, method=method)
-        req.add_header("Content-Type", "application/json")
+        req.add_header("Content-Type", content_type)
         if token:
             req.add_header("Authorization", "Bearer " + token)
         try:
@@ -110,6 +111,10 @@ class Env:
             return status, json.loads(payload) if payload else None
         except ValueError:
             return status, payload.decode(errors="replace")
+
+    def request_multipart(self, method, path, form, boundary, token=None):
+        return self.request(method, path, token=token, raw=form,
+                            content_type="multipart/form-data; boundary=" + boundary)
 
     def get_bytes(self, path):
         with urllib.request.urlopen(self.url + path, timeout=30) as r:

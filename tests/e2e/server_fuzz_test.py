@@ -1,6 +1,9 @@
 """Malformed requests against the real server, as an attacker on loopback would send them:
 invalid UTF-8 in paths, query strings, headers, JSON strings and multipart names; deep nesting;
-huge numbers; oversized bodies; wrong content types; foreign origins and every mix of tokens.
+huge numbers; oversized bodies; wrong content types; foreign origins and every mix of tokens;
+imports of broken or forged export files; labels with bad classes, NUL and control characters;
+checkpoint forms with bad numbers; duplicate singleton headers, a missing Host, obs-fold and
+header lines without a colon.
 Seeded and bounded (at least 5 000 requests, at most 6 000, within 240 s). After each request the
 server must still answer /api/v1/health; each answer is a 4xx with a JSON error naming a field
 (never a 500); the database's dump and the artifacts folder are the same at the end as at the
@@ -294,9 +297,114 @@ def case_malformed_line():
     return "request line", raw
 
 
+EXPORT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "studies", "phase_map",
+                      "results", "example-c-reference.export.json")
+with open(EXPORT) as f:
+    GOOD_EXPORT = json.load(f)
+
+
+def case_import():
+    doc = json.loads(json.dumps(GOOD_EXPORT))
+    run = rng.randrange(len(doc["runs"]))
+    kind = rng.choice(["junk", "truncated", "class", "origin twice", "scene", "summary status",
+                       "npy", "request", "empty runs", "label nul", "version"])
+    if kind == "junk":
+        body = junk_bytes(rng.randint(1, 200))
+    elif kind == "truncated":
+        text = json.dumps(doc).encode()
+        body = text[: rng.randint(1, len(text) - 1)]
+    else:
+        if kind == "class":
+            doc["runs"][run]["result"]["class"] = rng.choice(["z", 5, "a" * 300])
+        elif kind == "origin twice":
+            for r in doc["runs"]:
+                r["origin"] = {"database": "0123456789abcdef0123456789abcdef", "job": 5}
+        elif kind == "scene":
+            doc["runs"][run]["scene"]["S"] = rng.choice([-1, "x", 2.5])
+        elif kind == "summary status":
+            doc["runs"][run]["summary"]["status"] = rng.choice([{}, None, 5, [], True])
+        elif kind == "npy":
+            doc["runs"][run]["artifacts"] = [{"name": "spacetime.npy", "content_type": "x", "size": 80,
+                                              "data": "k05VTVBZAQB2AHsnZGVzY3InOiAnPGY0JywgJ2ZvcnRyYW5fb3JkZXInOiBGYWxzZSwgJ3NoYXBlJzogKDEwOTk1MTE2Mjc3NzYsIDEwNzM3NDE4MjQpLCB9ICAgICAg"}]
+        elif kind == "request":
+            doc["sweep"]["request"] = {"points": json.loads(deep(rng.choice([70, 200])))}
+        elif kind == "empty runs":
+            doc["runs"] = [{}] * rng.randint(1, 1000)
+        elif kind == "label nul":
+            doc["runs"][run]["human_label"] = {"label": "a", "reason": "a\u0000b", "by": "x", "at": 1}
+        else:
+            doc["version"] = rng.choice([2, -1, "1"])
+        body = json.dumps(doc).encode()
+    return "import " + kind, request("POST", "/api/v1/imports", JSON + auth(S), body)
+
+
+def case_label():
+    method = rng.choice(["PUT", "DELETE"])
+    body = rng.choice([
+        {"label": rng.choice(["z", "", 1, None, "ab"]), "reason": "r", "by": "x"},
+        {"label": "a", "reason": rng.choice(["a\u0000b", "\u001b[2J", "", 7]), "by": "x"},
+        {"label": "a", "reason": "r", "by": rng.choice(["a\nb", "", "\u0000"])},
+        {"reason": "\u0000", "by": "x"},
+        {"label": "a", "reason": "r", "by": "x", "token": "forged"},
+    ])
+    token = rng.choice([S, S, W, "guess"])
+    # The job has no result: a correct label is a 409, a malformed one 422, a wrong token 401/403.
+    return "label", request(method, "/api/v1/jobs/%d/label" % JOB, JSON + auth(token),
+                            json.dumps(body))
+
+
+def case_checkpoint():
+    fields = {"lease_token": LIVE if rng.random() < 0.3 else "stale", "step": "10", "eps": "0.1",
+              "checkpoint": "bytes"}
+    bad = rng.choice(["eps", "step", "missing", "unknown"])
+    if bad == "eps":
+        fields["eps"] = rng.choice([" 0.5", "0x1p-3", "1e-400", "nan", "2", "-0.1", ""])
+    elif bad == "step":
+        fields["step"] = rng.choice(["-1", "1.5", "99999999999999999999", " 3", "x"])
+    elif bad == "missing":
+        del fields[rng.choice(list(fields))]
+    else:
+        fields["extra"] = "1"
+    body = multipart([(k.encode(), None, v.encode()) for k, v in fields.items()], "ckpt")
+    token = W if rng.random() < 0.9 else S
+    return "checkpoint " + bad, request("POST", "/api/v1/jobs/%d/checkpoint" % JOB,
+                                        [("Content-Type", "multipart/form-data; boundary=ckpt")]
+                                        + auth(token), body)
+
+
+def case_headers():
+    """Heads that RFC 9110/9112 call malformed or ambiguous: each a 400, whatever follows."""
+    kind = rng.choice(["origin twice", "authorization twice", "length twice", "host twice",
+                       "no host", "obs-fold", "no colon", "space before colon", "bare lf"])
+    body = b'{"name": "x", "points": [%s]}' % POINT.encode()
+    base = [b"POST /api/v1/sweeps HTTP/1.1", b"Host: " + HOST.encode(), b"Connection: close",
+            b"Content-Type: application/json", b"Authorization: Bearer " + S.encode(),
+            b"Content-Length: %d" % len(body)]
+    if kind == "origin twice":
+        base += [b"Origin: http://" + HOST.encode(), b"Origin: http://evil.example"]
+    elif kind == "authorization twice":
+        base += [b"Authorization: Bearer guess"]
+    elif kind == "length twice":
+        base += [b"Content-Length: 2"]
+    elif kind == "host twice":
+        base += [b"Host: evil.example"]
+    elif kind == "no host":
+        base.pop(1)
+    elif kind == "obs-fold":
+        base += [b"X-Folded: a", b" continued"]
+    elif kind == "no colon":
+        base += [b"X-No-Colon"]
+    elif kind == "space before colon":
+        base += [b"Host : 127.0.0.1"]
+    else:
+        return "headers " + kind, b"\r\n".join(base[:3]) + b"\nX-A: 1\r\n\r\n"
+    return "headers " + kind, b"\r\n".join(base) + b"\r\n\r\n" + body
+
+
 CASES = [case_path_utf8, case_raw_path_bytes, case_query, case_header_utf8, case_json_string_utf8,
          case_deep_nesting, case_huge_numbers, case_oversized, case_chunked, case_content_type,
-         case_origin, case_tokens, case_multipart, case_malformed_line]
+         case_origin, case_tokens, case_multipart, case_malformed_line, case_import, case_label,
+         case_checkpoint, case_headers]
 
 before = db_state()
 start = time.time()
@@ -319,6 +427,8 @@ while sent < MAX_REQUESTS and time.time() - start < TIME_BUDGET:
     status, headers, body = answer
     check(400 <= status < 500, "request %d (%s) answered %d, not 4xx: %r -> %r"
           % (sent, kind, status, raw[:300], body[:300]))
+    if kind.startswith("headers"):
+        check(status == 400, "request %d (%s) answered %d, not 400" % (sent, kind, status))
     try:
         err = json.loads(body)["error"]
     except (ValueError, KeyError, TypeError):

@@ -1,5 +1,7 @@
 """Starting and stopping the programs as a scheduler or an operator would: a second server on
-a busy port exits 1 naming the port (it never shares it); --host that is not a loopback address
+a busy port exits 1 naming the port (it never shares it); a second server (or --import) on a
+database another server holds exits 1 naming the holder's pid, and deletes nothing (not even a
+folder the start-up clean-up would remove); --host that is not a loopback address
 (or does not resolve) needs tokens; a worker that never reaches its server exits 3; a worker
 killed with -9 leaves a work folder that the next worker beside it removes."""
 import os
@@ -21,6 +23,24 @@ second = subprocess.run([server_bin, "--db", os.path.join(env.dir, "other.db"), 
 check(second.returncode == 1, "a second server on a busy port exits 1, got %d" % second.returncode)
 check("cannot listen" in second.stderr + second.stdout and str(env.port) in second.stderr + second.stdout,
       "it says the port is taken: %s" % (second.stderr + second.stdout))
+check(env.get("/api/v1/health")["status"] == "ok", "the first server still answers")
+
+# One server per database: the second start takes nothing, cleans nothing, serves nothing.
+pending = os.path.join(env.db + ".artifacts", "upload-being-written")
+os.makedirs(pending)
+with open(os.path.join(pending, "frames.csv"), "w") as f:
+    f.write("eps\n")
+export = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "studies", "phase_map",
+                      "results", "example-c-reference.export.json")
+for extra in [["--port", "0"], ["--import", export]]:
+    same_db = subprocess.run([server_bin, "--db", env.db] + extra, capture_output=True, text=True,
+                             timeout=30)
+    said = same_db.stderr + same_db.stdout
+    check(same_db.returncode == 1, "a second server on a held database exits 1, got %d: %s"
+          % (same_db.returncode, said))
+    check("in use by another compaction-server (pid %d" % env.server.pid in said,
+          "it names the holder: %s" % said)
+check(os.path.exists(os.path.join(pending, "frames.csv")), "the second start deleted a folder")
 check(env.get("/api/v1/health")["status"] == "ok", "the first server still answers")
 
 for host in ["127.evil.invalid", "0.0.0.0"]:

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "api_error.hpp"
+#include "bundle_files.hpp"
 #include "compaction/bundle.hpp"
 #include "planner.hpp"
 
@@ -49,7 +50,9 @@ std::string field_of(const std::string& summary, std::vector<UploadedFile> files
 TEST(ResultIntake, TheEnginesSummaryIsAccepted) {
   const ResultRecord r =
       intake_result(engine_summary().dump(), canonical_scene(scene()), compaction::engine_version(),
-                    {{"frames.csv", "eps\n"}, {"spacetime.npy", "x"}, {"snapshot_0.200.png", "p"}});
+                    {{"frames.csv", test_files::frames_csv()},
+                     {"spacetime.npy", test_files::npy(3, 4)},
+                     {"snapshot_0.200.png", test_files::png()}});
   EXPECT_EQ(r.status, "ok");
   EXPECT_EQ(r.engine_version, compaction::engine_version());
   EXPECT_EQ(r.source_revision, compaction::source_revision());
@@ -104,12 +107,66 @@ TEST(ResultIntake, BadUploadsNameTheField) {
   EXPECT_EQ(field_of(s.dump()), "summary.classification.confidence");
   EXPECT_EQ(field_of(engine_summary().dump(), {{"../etc/passwd", "x"}}), "files[../etc/passwd]");
   EXPECT_EQ(field_of(engine_summary().dump(), {{"run.sh", "x"}}), "files[run.sh]");
-  EXPECT_EQ(field_of(engine_summary().dump(), {{"a.csv", "x"}, {"a.csv", "y"}}), "files[a.csv]");
+  EXPECT_EQ(field_of(engine_summary().dump(), {{"a.csv", test_files::frames_csv()},
+                                              {"a.csv", test_files::frames_csv()}}),
+            "files[a.csv]");
+}
+
+TEST(ResultIntake, EveryFieldOfTheSummaryIsCheckedAgainstTheSchema) {
+  // A status that is not a string: a 422 naming it (it was a 500).
+  for (const json& status : {json::object(), json(nullptr), json(5), json::array(), json(true)}) {
+    json s = engine_summary();
+    s["status"] = status;
+    EXPECT_EQ(field_of(s.dump()), "summary.status") << status;
+  }
+  json s = engine_summary();
+  s["classification"] = {{"class", "a"}, {"runner_up", "rumour"}};
+  EXPECT_EQ(field_of(s.dump()), "summary.classification.runner_up");
+  s = engine_summary();
+  s["eps_reached"] = 1.8e19;
+  EXPECT_EQ(field_of(s.dump()), "summary.eps_reached");
+  s = engine_summary();
+  s["classification"] = {{"class", "a"}, {"features", {{"n_fronts", "many"}}}};
+  EXPECT_EQ(field_of(s.dump()), "summary.classification.features.n_fronts");
+  s["classification"] = {{"class", "a"}, {"features", {{"coherence", 7}}}};
+  EXPECT_EQ(field_of(s.dump()), "summary.classification.features.coherence");
+  s["classification"] = {{"class", "a"}, {"features", {{"a_new_feature", {{"deep", 1}}}}}};
+  EXPECT_EQ(field_of(s.dump()), "summary.classification.features.a_new_feature");
+  s = engine_summary();
+  s["unknown_key"] = 1;
+  EXPECT_EQ(field_of(s.dump()), "summary");
+  s = engine_summary();
+  s["wall_seconds"] = -1;
+  EXPECT_EQ(field_of(s.dump()), "summary.wall_seconds");
+}
+
+TEST(ResultIntake, EveryFileIsParsedBeforeItIsStored) {
+  const std::string summary = engine_summary().dump();
+  // An .npy whose header claims 2^70 elements, or more or fewer bytes than its shape.
+  std::string huge = test_files::npy(1, 1);
+  huge.replace(huge.find("(1, 1)"), 6, "(1099511627776, 1073741824)");
+  EXPECT_EQ(field_of(summary, {{"spacetime.npy", huge}}), "files[spacetime.npy]");
+  EXPECT_EQ(field_of(summary, {{"spacetime.npy", test_files::npy(3, 4) + "x"}}), "files[spacetime.npy]");
+  EXPECT_EQ(field_of(summary, {{"spacetime.npy", test_files::npy(3, 4).substr(0, 100)}}),
+            "files[spacetime.npy]");
+  // A CSV with a NUL byte, a ragged row, a field that is not a number.
+  EXPECT_EQ(field_of(summary, {{"frames.csv", std::string("eps,s\n0.1,\0\n", 12)}}), "files[frames.csv]");
+  EXPECT_EQ(field_of(summary, {{"frames.csv", "eps,s\n0.1\n"}}), "files[frames.csv]");
+  EXPECT_EQ(field_of(summary, {{"frames.csv", "eps,s\n0.1,=HYPERLINK(1)\n"}}), "files[frames.csv]");
+  // A PNG that is not one, a movie shorter than its frames.
+  EXPECT_EQ(field_of(summary, {{"spacetime.png", "png bytes"}}), "files[spacetime.png]");
+  EXPECT_EQ(field_of(summary, {{"movie.bin", test_files::movie(10, 2).substr(0, 120)}}), "files[movie.bin]");
+  // The bundle's summary.json as a file is the summary field, or the upload is refused.
+  EXPECT_EQ(field_of(summary, {{"summary.json", summary}}), "accepted");
+  json other = engine_summary();
+  other["wall_seconds"] = 99;
+  EXPECT_EQ(field_of(summary, {{"summary.json", other.dump()}}), "files[summary.json]");
 }
 
 TEST(ResultIntake, TheMovieIsAnArtifactOfItsOwnType) {
   const ResultRecord r = intake_result(engine_summary().dump(), canonical_scene(scene()),
-                                       compaction::engine_version(), {{"movie.bin", "CSMOVIE1"}});
+                                       compaction::engine_version(),
+                                       {{"movie.bin", test_files::movie(10, 2)}});
   ASSERT_EQ(r.artifacts.size(), 1u);
   EXPECT_EQ(r.artifacts[0].content_type, "application/octet-stream");
   EXPECT_EQ(field_of(engine_summary().dump(), {{"movie.exe", "x"}}), "files[movie.exe]");

@@ -133,6 +133,8 @@ TEST_F(LabelApi, EveryBadLabelRequestIsRefusedNamingItsFieldAndChangesNothing) {
       {"no reason", "PUT", true, with("reason", nullptr), submit, 422, "reason"},
       {"empty reason", "PUT", true, with("reason", ""), submit, 422, "reason"},
       {"reason too long", "PUT", true, with("reason", std::string(2001, 'x')), submit, 422, "reason"},
+      {"reason with NUL", "PUT", true, with("reason", std::string("a\0b", 3)), submit, 422, "reason"},
+      {"reason with ESC", "PUT", true, with("reason", "a\x1b[2Jb"), submit, 422, "reason"},
       {"no by", "PUT", true, with("by", nullptr), submit, 422, "by"},
       {"by with a newline", "PUT", true, with("by", "a\nb"), submit, 422, "by"},
       {"by too long", "PUT", true, with("by", std::string(201, 'x')), submit, 422, "by"},
@@ -142,6 +144,7 @@ TEST_F(LabelApi, EveryBadLabelRequestIsRefusedNamingItsFieldAndChangesNothing) {
       {"clear without by", "DELETE", true, R"({"reason": "x"})", submit, 422, "by"},
       {"clear unlabelled", "DELETE", true, R"({"by": "ana"})", submit, 404, "label"},
       {"clear with a label key", "DELETE", true, R"({"by": "ana", "label": "a"})", submit, 422, "label"},
+      {"clear with NUL in the reason", "DELETE", true, R"({"by": "ana", "reason": "\u0000"})", submit, 422, "reason"},
   };
   const std::string before = store->reads.fingerprint();
   for (const Bad& c : cases) {
@@ -190,18 +193,31 @@ TEST_F(LabelApi, ALabelShowsOnTheJobTheMapTheExportsAndTheAuditAndItsClearToo) {
   EXPECT_NE(csv.find(",human_label,human_reason,human_by,human_at,"), std::string::npos);
   EXPECT_NE(csv.find(",b,\"reflects, see the map\",ana,"), std::string::npos) << csv;
 
+  // Text a spreadsheet would run as a formula comes out as text (OWASP's CSV injection advice).
+  auto formula = send("PUT", label_path(done),
+                      json{{"label", "b"}, {"reason", "=HYPERLINK(\"http://evil.example\")"}, {"by", "@SUM(1+1)"}}.dump(),
+                      submit);
+  ASSERT_EQ(formula->status, 200) << formula->body;
+  const std::string escaped =
+      client->Get(("/api/v1/sweeps/" + std::to_string(sweep) + "/export?format=csv").c_str())->body;
+  EXPECT_NE(escaped.find(",b,\"'=HYPERLINK(\"\"http://evil.example\"\")\",\"'@SUM(1+1)\","), std::string::npos)
+      << escaped;
+  EXPECT_EQ(escaped.find(",=HYPERLINK"), std::string::npos);
+  EXPECT_EQ(escaped.find(",@SUM"), std::string::npos);
+
   auto clear = send("DELETE", label_path(done), R"({"by": "ben", "reason": "back to the classifier"})", submit);
   ASSERT_EQ(clear->status, 200) << clear->body;
   EXPECT_TRUE(json::parse(clear->body)["human_label"].is_null());
   const json audit = get("/api/v1/labels/audit");
-  ASSERT_EQ(audit["total"], 2);
+  ASSERT_EQ(audit["total"], 3);
   EXPECT_EQ(audit["changes"][0]["action"], "cleared");
+  EXPECT_EQ(audit["changes"][0]["token"], "submit") << "the token class of the request that cleared it";
   EXPECT_EQ(audit["changes"][0]["by"], "ben");
   EXPECT_EQ(audit["changes"][0]["previous_label"], "b");
   EXPECT_EQ(audit["changes"][1]["action"], "set");
   EXPECT_EQ(audit["changes"][1]["classifier_label"], "a");
   EXPECT_EQ(get("/api/v1/labels/audit?job=" + std::to_string(queued))["total"], 0);
-  EXPECT_EQ(get(label_path(done))["changes"].size(), 2u);
+  EXPECT_EQ(get(label_path(done))["changes"].size(), 3u);
 }
 
 TEST_F(LabelApi, APersonsLabelColoursThePredictedRegionsAsTheMapAndThePlannerReadIt) {

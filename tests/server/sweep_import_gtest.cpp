@@ -5,12 +5,19 @@
 // naming its field and imports nothing; human labels travel with the runs.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <set>
+
 #include "api_error.hpp"
+#include "bundle_files.hpp"
 #include "base64.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
 #include "export_format.hpp"
+#include "import_command.hpp"
 #include "planner.hpp"
 #include "result_intake.hpp"
 #include "store.hpp"
@@ -52,12 +59,11 @@ void run_all(Store& s, const std::string& cls, const std::string& worker = "w1")
     summary["classification"] = {{"class", cls}, {"confidence", 0.75}, {"runner_up", "c"},
                                  {"n_reflections", 1}, {"band_speed_ratio", 2.5},
                                  {"features", {{"band_speed_error", 0.1}}}};
-    const std::string npy("\x93NUMPY\x01\x00 fake rows \xff\x00", 20);
     ResultRecord r = intake_result(summary.dump(), l->scene, compaction::engine_version(),
                                    {{"frames.csv", "eps,sigma_top\n0.01,1\n"},
-                                    {"spacetime.npy", npy},
-                                    {"snapshot_0.200.png", "png bytes"},
-                                    {"snapshot_0.200.npy", "particles"}});
+                                    {"spacetime.npy", test_files::npy(2, 3)},
+                                    {"snapshot_0.200.png", test_files::png()},
+                                    {"snapshot_0.200.npy", test_files::npy(4, 5)}});
     ASSERT_EQ(s.queue.complete(l->job_id, l->token, r, t0 + 20), LeaseCheck::ok);
   }
 }
@@ -125,7 +131,7 @@ TEST_F(ImportTest, AnImportBringsTheRunsWithTheirResultsArtifactsAndProvenance) 
   EXPECT_EQ(detail["result"]["created_at"], t0 + 20) << "the computing server's time";
   EXPECT_EQ(detail["result"]["summary"]["classification"]["class"], "b");
   EXPECT_EQ(b.reads.artifact(job, "frames.csv")->data, "eps,sigma_top\n0.01,1\n");
-  EXPECT_EQ(b.reads.artifact(job, "spacetime.npy")->data, std::string("\x93NUMPY\x01\x00 fake rows \xff\x00", 20));
+  EXPECT_EQ(b.reads.artifact(job, "spacetime.npy")->data, test_files::npy(2, 3));
   EXPECT_TRUE(b.reads.artifact(job, "snapshot_0.200.png"));
   EXPECT_FALSE(b.reads.artifact(job, "snapshot_0.200.npy")) << "particle snapshots stay home";
   // Imported sweeps never plan (an adaptive request is a record of what was asked).
@@ -318,4 +324,165 @@ TEST_F(ImportTest, HumanLabelsTravelWithTheRunsAndALabelSetHereStays) {
     EXPECT_EQ(labelled->job.human_label->imported_at, t0 + 40);
   }
   EXPECT_EQ(human_b, 1);
+}
+
+namespace {
+
+// The folders below a store's artifact root.
+std::set<std::string> artifact_folders(const std::string& db) {
+  std::set<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(db + ".artifacts")) {
+    out.insert(e.path().filename().string());
+  }
+  return out;
+}
+
+// Imports through the streaming path (the file read from a FILE*, as the server reads its
+// spooled body), checkpoints of filled jobs removed.
+ImportOutcome import_text(Store& s, const std::string& text, const std::string& importer, Millis now) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(
+      fmemopen(const_cast<char*>(text.data()), text.size(), "rb"), &std::fclose);
+  return import_export(s, f.get(), importer, now);
+}
+
+}  // namespace
+
+TEST_F(ImportTest, TheStreamingReadMergesWhatTheWholeFileReadDoes) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "b");
+  const ImportOutcome o = import_text(b, export_of(a, sa), "submit:carla", t0 + 40);
+  EXPECT_EQ(o.runs, 2);
+  EXPECT_EQ(o.added, 2);
+  const json map = map_of(b);
+  ASSERT_EQ(map["points"].size(), 2u);
+  const auto job = b.reads.job(map["points"][0]["job_id"]);
+  ASSERT_TRUE(job);
+  EXPECT_EQ(b.reads.artifact(job->job.id, "spacetime.npy")->data, test_files::npy(2, 3));
+  EXPECT_EQ(artifact_folders(dir.file("b.db")).size(), 2u) << "one folder a run";
+}
+
+TEST_F(ImportTest, AFailedImportLeavesNoFileAndNoRow) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "a");
+  json file = json::parse(export_of(a, sa));
+  file["runs"][1]["result"]["class"] = "c";  // the last run fails its check, after the first's files
+  const auto folders = artifact_folders(dir.file("b.db"));
+  const std::string before = b.reads.fingerprint();
+  EXPECT_THROW(import_text(b, file.dump(), "open", t0 + 40), ApiError);
+  EXPECT_EQ(artifact_folders(dir.file("b.db")), folders) << "the first run's files are gone";
+  EXPECT_EQ(b.reads.fingerprint(), before);
+}
+
+TEST_F(ImportTest, AJobFilledByAnImportLosesItsCheckpoint) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "e");
+  create(b, "queued here");
+  const auto lease = b.queue.lease("w", compaction::engine_version(), t0 + 5);
+  ASSERT_TRUE(lease);
+  ASSERT_EQ(b.checkpoints.put(lease->job_id, lease->token, "state", 10, 0.01, t0 + 6), LeaseCheck::ok);
+  ASSERT_TRUE(b.checkpoints.find(lease->job_id));
+  const ImportOutcome o = import_text(b, export_of(a, sa), "open", t0 + 40);
+  EXPECT_EQ(o.filled, 2);
+  EXPECT_FALSE(b.checkpoints.find(lease->job_id)) << "a succeeded job keeps no checkpoint";
+  EXPECT_TRUE(std::filesystem::is_empty(dir.file("b.db") + ".checkpoints"));
+}
+
+TEST_F(ImportTest, ProvenanceThatNamesThisDatabaseMustBeTrueOfIt) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "a");
+  const json from_a = json::parse(export_of(a, sa));
+  const std::string own = a.imports.database_id();
+  const std::string before = a.reads.fingerprint();
+  auto refused = [&](const json& f) -> std::string {
+    try {
+      a.imports.merge(read_export(f.dump()), t0 + 40);
+    } catch (const ApiError& e) {
+      return e.field;
+    }
+    return "";
+  };
+  // b's own runs, claiming a's sweep: they would join a's sweep (and its adaptive budget).
+  const std::int64_t sb = b.sweeps.create(
+      sweep_rows(plan_sweep({{"name", "b's"}, {"points", {{{"S", 0.07}, {"R", 1e-3}, {"phi", 0.4}}}},
+                             {"numerics", {{"cells_per_unit", 6}, {"eps_end", 0.02}}}}),
+                 compaction::engine_version()),
+      t0).id;
+  run_all(b, "d");
+  json forged = json::parse(export_of(b, sb));
+  forged["sweep"]["origin"] = {{"database", own}, {"sweep", sa}};
+  EXPECT_EQ(refused(forged), "runs[0]");
+  forged["sweep"]["origin"] = {{"database", own}, {"sweep", 99}};
+  EXPECT_EQ(refused(forged), "sweep.origin.sweep");
+  // A run claiming to be a's job 1 with another scene.
+  json claimed = json::parse(export_of(b, sb));
+  claimed["runs"][0]["origin"] = {{"database", own}, {"job", 1}};
+  EXPECT_EQ(refused(claimed), "runs[0].origin");
+  // Two runs of one file claiming one origin.
+  json twice = from_a;
+  for (json& run : twice["runs"]) run["origin"] = {{"database", "0123456789abcdef0123456789abcdef"}, {"job", 5}};
+  EXPECT_EQ(refused(twice), "runs[1].origin");
+  EXPECT_EQ(a.reads.fingerprint(), before);
+  // A round trip is still true of a: nothing new.
+  EXPECT_FALSE(a.imports.merge(read_export(from_a.dump()), t0 + 50).changed());
+}
+
+TEST_F(ImportTest, AnOriginRunIsHereOnceAcrossImports) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "a");
+  const json from_a = json::parse(export_of(a, sa));
+  ASSERT_EQ(b.imports.merge(read_export(from_a.dump()), t0 + 40).added, 2);
+  // Another file (another sweep of c's) claims a's first run for a run of another scene.
+  TempDir other;
+  Store c{other.file("c.db"), config()};
+  const std::int64_t sc = c.sweeps.create(
+      sweep_rows(plan_sweep({{"name", "c's"}, {"points", {{{"S", 0.08}, {"R", 1e-3}, {"phi", 0.4}}}},
+                             {"numerics", {{"cells_per_unit", 6}, {"eps_end", 0.02}}}}),
+                 compaction::engine_version()),
+      t0).id;
+  run_all(c, "d");
+  json claims = json::parse(export_of(c, sc));
+  claims["runs"][0]["origin"] = from_a["runs"][0]["origin"];
+  const std::string before = b.reads.fingerprint();
+  try {
+    b.imports.merge(read_export(claims.dump()), t0 + 60);
+    ADD_FAILURE() << "a second run of one origin was imported";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field, "runs[0].origin");
+  }
+  EXPECT_EQ(b.reads.fingerprint(), before);
+}
+
+TEST_F(ImportTest, ASweepsRequestIsBoundedAsASweepsBodyIs) {
+  const std::int64_t sa = create(a, "part A");
+  run_all(a, "a");
+  json f = json::parse(export_of(a, sa));
+  f["sweep"]["request"]["padding"] = std::string(2 << 20, 'x');
+  try {
+    read_export(f.dump());
+    ADD_FAILURE() << "a 2 MB request was read";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field, "sweep.request.padding");
+  }
+  // Below the reader's bound of text, a request beyond a sweep body's limit.
+  f["sweep"]["request"]["padding"] = std::string((1 << 20) + 100, 'x');
+  try {
+    read_export(f.dump());
+    ADD_FAILURE() << "a request beyond 1 MiB was read";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field, "sweep.request");
+  }
+  // A file of many empty runs is refused at its first, without building the others.
+  f = json::parse(export_of(a, sa));
+  f.erase("runs");
+  std::string text = f.dump();
+  text.pop_back();
+  text += R"(,"runs": [)";
+  for (int i = 0; i < 100000; ++i) text += i ? ",{}" : "{}";
+  text += "]}";
+  try {
+    read_export(text);
+    ADD_FAILURE() << "empty runs were read";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field, "runs[0].job_id");
+  }
 }

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <string_view>
 #include <vector>
 
 #include "compaction/params.hpp"
@@ -46,6 +47,9 @@ struct Header {
 // Throws std::runtime_error naming the file when it is missing, malformed or shorter than its
 // frame count.
 Header read_header(const std::filesystem::path& path);
+// The header from a file's first bytes (at least kHeaderBytes), checked against the file's
+// size; throws std::runtime_error saying what is wrong.
+Header parse_header(std::string_view bytes, std::uintmax_t file_size);
 
 // A movie read back: positions in metres, rates as their levels (rate_of_level decodes them).
 struct Frame {

@@ -4,6 +4,8 @@
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "compaction/movie.hpp"
 
@@ -35,7 +37,7 @@ double rate_of_level(std::uint8_t level) {
 namespace {
 
 template <typename T>
-T at(const std::string& bytes, std::size_t offset) {
+T at(std::string_view bytes, std::size_t offset) {
   T v;
   std::memcpy(&v, bytes.data() + offset, sizeof v);  // little-endian hosts (x86-64, arm64)
   return v;
@@ -50,9 +52,10 @@ std::string read_bytes(const fs::path& path, std::size_t max_bytes) {
   return bytes;
 }
 
-// The header of `bytes` (at least the header of the file), checked against the file's size.
-Header parse_header(const std::string& bytes, std::uintmax_t file_size, const fs::path& path) {
-  auto bad = [&](const std::string& why) { return std::runtime_error(path.string() + ": " + why); };
+}  // namespace
+
+Header parse_header(std::string_view bytes, std::uintmax_t file_size) {
+  auto bad = [](const std::string& why) { return std::runtime_error(why); };
   if (bytes.size() < kHeaderBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
     throw bad("not a movie (magic CSMOVIE1 and a 96-byte header expected)");
   }
@@ -74,13 +77,15 @@ Header parse_header(const std::string& bytes, std::uintmax_t file_size, const fs
   return h;
 }
 
-}  // namespace
-
 Header read_header(const fs::path& path) {
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) throw std::runtime_error("cannot read " + path.string());
-  return parse_header(read_bytes(path, kHeaderBytes), size, path);
+  try {
+    return parse_header(read_bytes(path, kHeaderBytes), size);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
 }
 
 Movie read(const fs::path& path) {
@@ -89,7 +94,11 @@ Movie read(const fs::path& path) {
   if (ec) throw std::runtime_error("cannot read " + path.string());
   const std::string bytes = read_bytes(path, size);
   Movie m;
-  m.header = parse_header(bytes, bytes.size(), path);
+  try {
+    m.header = parse_header(bytes, bytes.size());
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
   const Header& h = m.header;
   const std::size_t n = h.n_particles, fb = frame_bytes(n);
   const double sx = (h.x_hi - h.x_lo) / 65535.0, sy = (h.y_hi - h.y_lo) / 65535.0;

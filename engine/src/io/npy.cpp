@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 static_assert(sizeof(float) == 4, "float32 expected");
 
@@ -46,43 +47,70 @@ void write(const std::filesystem::path& path, const float* data,
   if (!out) throw std::runtime_error("error writing " + path.string());
 }
 
-Array read(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path.string());
-  char magic[6];
-  unsigned char version[2], len_le[2];
-  in.read(magic, 6);
-  in.read(reinterpret_cast<char*>(version), 2);
-  in.read(reinterpret_cast<char*>(len_le), 2);
-  if (!in || std::memcmp(magic, kMagic, 6) != 0 || version[0] != 1) {
-    throw std::runtime_error(path.string() + ": not an .npy file of format 1.x");
+Layout parse_header(std::string_view bytes) {
+  constexpr std::size_t preamble = 10;
+  if (bytes.size() < preamble || std::memcmp(bytes.data(), kMagic, 6) != 0 ||
+      static_cast<unsigned char>(bytes[6]) != 1) {
+    throw std::runtime_error("not an .npy file of format 1.x");
   }
-  std::string header(static_cast<std::size_t>(len_le[0] | (len_le[1] << 8)), '\0');
-  in.read(header.data(), static_cast<std::streamsize>(header.size()));
-  if (header.find("'<f4'") == std::string::npos ||
-      header.find("'fortran_order': False") == std::string::npos) {
-    throw std::runtime_error(path.string() + ": expected a C-order '<f4' array");
+  const std::size_t length = static_cast<unsigned char>(bytes[8]) |
+                             (static_cast<std::size_t>(static_cast<unsigned char>(bytes[9])) << 8);
+  if (bytes.size() < preamble + length) throw std::runtime_error("truncated header");
+  const std::string_view header = bytes.substr(preamble, length);
+  if (header.find("'descr': '<f4'") == std::string_view::npos ||
+      header.find("'fortran_order': False") == std::string_view::npos) {
+    throw std::runtime_error("expected a C-order '<f4' array");
   }
   // The shape is a tuple of decimal integers: "'shape': (3, 4), " or "'shape': (3,), ".
-  const std::string key = "'shape': (";
-  const std::size_t open = header.find(key), close = header.find(')', open);
-  if (open == std::string::npos || close == std::string::npos) {
-    throw std::runtime_error(path.string() + ": no shape in header");
-  }
-  Array a;
-  std::size_t count = 1;
+  constexpr std::string_view key = "'shape': (";
+  const std::size_t open = header.find(key);
+  const std::size_t close = open == std::string_view::npos ? open : header.find(')', open);
+  if (close == std::string_view::npos) throw std::runtime_error("no shape in the header");
+  Layout l;
+  l.data_offset = preamble + length;
+  l.count = 1;
   for (std::size_t i = open + key.size(); i < close;) {
-    if (header[i] < '0' || header[i] > '9') {
+    const char c = header[i];
+    if (c == ',' || c == ' ') {
       ++i;
       continue;
     }
+    if (c < '0' || c > '9') throw std::runtime_error("the shape holds something else than sizes");
     std::size_t value = 0;
-    for (; i < close && header[i] >= '0' && header[i] <= '9'; ++i) value = value * 10 + (header[i] - '0');
-    a.shape.push_back(value);
-    count *= value;
+    for (; i < close && header[i] >= '0' && header[i] <= '9'; ++i) {
+      if (value > kMaxElements) throw std::runtime_error("a size of the shape is too large");
+      value = value * 10 + static_cast<std::size_t>(header[i] - '0');
+    }
+    if (value > kMaxElements || (value > 0 && l.count > kMaxElements / value)) {
+      throw std::runtime_error("more than " + std::to_string(kMaxElements) + " elements");
+    }
+    l.shape.push_back(value);
+    l.count *= value;
   }
-  a.data.resize(count);
-  in.read(reinterpret_cast<char*>(a.data.data()), static_cast<std::streamsize>(count * 4));
+  if (l.shape.empty() || l.shape.size() > 8) throw std::runtime_error("expected 1 to 8 dimensions");
+  return l;
+}
+
+Array read(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  std::string head(10, '\0');
+  in.read(head.data(), 10);
+  Layout l;
+  try {
+    if (!in) throw std::runtime_error("not an .npy file of format 1.x");
+    const std::size_t length = static_cast<unsigned char>(head[8]) |
+                               (static_cast<std::size_t>(static_cast<unsigned char>(head[9])) << 8);
+    head.resize(10 + length);
+    in.read(head.data() + 10, static_cast<std::streamsize>(length));
+    l = parse_header(head);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path.string() + ": " + e.what());
+  }
+  Array a;
+  a.shape = l.shape;
+  a.data.resize(l.count);
+  in.read(reinterpret_cast<char*>(a.data.data()), static_cast<std::streamsize>(l.count * 4));
   if (!in) throw std::runtime_error(path.string() + ": truncated data");
   return a;
 }
