@@ -23,6 +23,8 @@ namespace {
 const std::string submit = "submit-secret";
 const std::string worker = "worker-secret";
 
+const std::string named = "ana-has-her-own-token";
+
 struct LabelApi : ::testing::Test {
   TempDir dir;
   std::unique_ptr<Store> store;
@@ -39,6 +41,7 @@ struct LabelApi : ::testing::Test {
     ServerOptions o;
     o.tokens.add({TokenKind::submit, "", submit}, false);
     o.tokens.add({TokenKind::worker, "", worker}, false);
+    o.tokens.add({TokenKind::submit, "ana", named}, true);  // as --tokens FILE gives them
     o.web_dir = "";
     app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}, {}});
     register_all_routes(server, *app);
@@ -268,4 +271,13 @@ TEST_F(LabelApi, AnExportPostedToImportsMergesAndABadOneIsRefusedNamingItsField)
   EXPECT_EQ(o["added"], 0);
   EXPECT_EQ(o["sweep_created"], false) << "the sweep was made here";
   EXPECT_EQ(get("/api/v1/phase-map?phi=0.4")["points"].size(), 2u);
+}
+
+TEST_F(LabelApi, AChangeRecordsTheNameOfTheTokenThatMadeIt) {
+  ASSERT_EQ(send("PUT", label_path(done), json{{"label", "b"}, {"reason", "r"}, {"by", "someone else"}}.dump(),
+                 named)->status, 200);
+  const json audit = get("/api/v1/labels/audit");
+  EXPECT_EQ(audit["changes"][0]["by"], "someone else") << "what the person says";
+  EXPECT_EQ(audit["changes"][0]["token"], "submit:ana") << "what the token proves";
+  EXPECT_EQ(get("/api/v1/jobs/" + std::to_string(done))["human_label"]["token"], "submit:ana");
 }
