@@ -8,6 +8,7 @@ packages=(
   cmake ninja-build g++ git pkg-config
   libsqlite3-dev sqlite3 nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev libcli11-dev
+  libcairo2-dev fonts-dejavu-core  # spacetime.png's axes and text
   libvalijson-dev  # header-only: the server checks uploaded summaries against schema/summary.schema.json
   libeigen3-dev  # header-only: the 3D column's linear algebra, and the tests' independent oracles
   python3 curl

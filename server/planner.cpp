@@ -12,7 +12,7 @@
 #include "compaction/bundle.hpp"
 #include "compaction/number_text.hpp"
 #include "compaction/params_json.hpp"
-#include "presets.hpp"
+#include "compaction/presets.hpp"
 
 namespace compaction::server {
 
@@ -91,20 +91,18 @@ SceneParams base_scene(const json& body, std::string& preset_name,
     seeds = seed_list(numerics["seeds"]);
     numerics.erase("seeds");
   }
-  preset_name = std::string(default_preset_name);
+  preset_name = std::string(compaction::kDefaultPreset);
   if (numerics.contains("preset")) {
     const json& p = numerics["preset"];
-    if (!p.is_string() || !find_preset(p.get<std::string>())) {
-      std::string names;
-      for (const auto& pr : presets()) names += (names.empty() ? "" : ", ") + pr.name;
-      invalid("numerics.preset", "must be one of " + names + ", got " + describe(p));
+    if (!p.is_string() || !compaction::find_preset(p.get<std::string>())) {
+      invalid("numerics.preset", "must be one of " + compaction::preset_names() + ", got " + describe(p));
     }
     preset_name = p.get<std::string>();
     numerics.erase("preset");
   }
   SceneParams scene;
   // The preset's values first: they are valid on their own and only the explicit keys may fail.
-  json merged = preset_scene_json(*find_preset(preset_name));
+  json merged = compaction::preset_json(*compaction::find_preset(preset_name));
   for (const auto& [key, value] : numerics.items()) merged[key] = value;
   merged["threads"] = 1;
   // Here only the types: from_json reports type errors, or else validate()'s range errors,

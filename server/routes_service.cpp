@@ -10,7 +10,7 @@
 #include "http_server.hpp"
 #include "http_util.hpp"
 #include "metrics.hpp"
-#include "presets.hpp"
+#include "compaction/presets.hpp"
 #include "request_guard.hpp"
 #include "safe_text.hpp"
 
@@ -104,15 +104,13 @@ void register_service_routes(httplib::Server& server, App& app) {
 
   add_route(server, endpoints::presets, [](const httplib::Request&, httplib::Response& res) {
     json out = json::array();
-    for (const Preset& p : presets()) {
-      out.push_back({{"name", p.name},
-                     {"description", p.description},
-                     {"cells_per_strut", p.cells_per_strut},
-                     {"particles_per_cell", p.particles_per_cell},
-                     {"cfl", p.cfl},
-                     {"pore_contact", to_string(p.pore_contact)}});
+    for (const compaction::Preset& p : compaction::presets()) {
+      json preset = compaction::preset_json(p);
+      preset["name"] = p.name;
+      preset["description"] = p.description;
+      out.push_back(preset);
     }
-    send_json(res, 200, {{"presets", out}, {"default", default_preset_name}});
+    send_json(res, 200, {{"presets", out}, {"default", compaction::kDefaultPreset}});
   });
 
   add_route(server, endpoints::limits, [&app](const httplib::Request&, httplib::Response& res) {

@@ -14,6 +14,7 @@
 #include "compaction/checkpoint.hpp"
 #include "compaction/number_text.hpp"
 #include "compaction/params_json.hpp"
+#include "compaction/presets.hpp"
 
 namespace compaction::cli {
 
@@ -112,7 +113,7 @@ json convert(const SceneFlag& f, const std::string& text) {
   throw fail("a value");
 }
 
-// The default of a field as the help shows it: SceneParams' own.
+// The default of a field as the help shows it: SceneParams' own (the default preset's numerics).
 std::string default_of(const SceneFlag& f) {
   static const SceneParams params;
   // to_json writes the strain a run goes to; the field's own default means "until dense"
@@ -176,6 +177,11 @@ std::optional<int> parse(int argc, const char* const* argv, Options& out) {
       "FILE",
       "scene parameters as JSON (keys as the flags, '-' -> '_');\n"
       "flags given as well override the file's values");
+  std::string preset_name;
+  cl.text("--preset", preset_name, "NAME",
+          "numerics preset: " + preset_names() + " (compaction/presets.hpp); a scene\n"
+          "file's and the flags' own values override it key by key",
+          std::string(kDefaultPreset), true);
   cl.text("--out", out.out_dir, "DIR",
           "where to write the bundle (summary.json, frames.csv,\n"
           "spacetime.npy/.png, snapshot_<eps>.npy/.png)");
@@ -235,11 +241,30 @@ std::optional<int> parse(int argc, const char* const* argv, Options& out) {
   cl.notes(kNotes);
 
   if (const auto code = cl.parse(argc, argv)) return code;
-  scene.update(overrides);  // flags win over the scene file
   int code = 0;
-  for (const FieldError& e : from_json(scene, out.params)) {
-    code = cl.fail(flag_of(e.field) + (e.field.empty() ? "" : " (" + e.field + ")"), e.message);
+  const Preset* preset = find_preset(preset_name.empty() ? kDefaultPreset : preset_name);
+  if (!preset) {
+    return cl.fail("--preset", "unknown preset '" + preset_name + "': the presets are " + preset_names());
   }
+  // The preset, then the scene file, then the flags: each later one wins key by key.
+  json composed = preset_json(*preset);
+  composed.update(scene);
+  composed.update(overrides);
+  for (const FieldError& e : from_json(composed, out.params)) {
+    const std::string flag = flag_of(e.field);
+    const std::string geometry = flag != "--geometry" && out.params.geometry != Geometry::pseudo1d
+                                     ? std::string(" with --geometry ") + to_string(out.params.geometry)
+                                     : std::string();
+    code = cl.fail(flag + (e.field.empty() ? "" : " (" + e.field + ")") + geometry, e.message);
+  }
+  if (!preset_name.empty()) {
+    out.preset = preset->name;
+  } else if (const Preset* same = matching_preset(out.params)) {
+    out.preset = same->name;
+  } else {
+    out.preset = std::string(kDefaultPreset);
+  }
+  out.overridden = overridden_keys(*find_preset(out.preset), out.params);
   if (out.out_dir.empty() && !out.check) {
     code = cl.fail("--out", "required (the bundle's directory)");
   }

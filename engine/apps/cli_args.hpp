@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "compaction/params.hpp"
 
 namespace compaction::cli {
@@ -12,6 +14,10 @@ enum class ProgressMode { automatic, bar, log, json, none };
 
 struct Options {
   SceneParams params;
+  // The numerics preset the scene starts from (--preset; else the one its numerics match,
+  // else "default") and the preset's keys the scene sets otherwise (for summary.json).
+  std::string preset;
+  nlohmann::json overridden;
   std::string out_dir;
   ProgressMode progress = ProgressMode::automatic;
   // Checkpoints (docs/runner.md): where to write them, how often (wall seconds; 0: only when

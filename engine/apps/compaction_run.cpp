@@ -43,6 +43,42 @@ nlohmann::json classification_of(const compaction::SceneParams& p, const compact
   return compaction::classify::summary_json_of(compaction::classify::classify(p, r));
 }
 
+std::string number(const nlohmann::json& v, const char* format) {
+  if (!v.is_number()) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, v.get<double>());
+  return buf;
+}
+
+// What the run found, in one line: its class with confidence and runner-up, N_r, and the
+// band's speed c_b/V with its error where there is a band.
+std::string verdict_line(const compaction::RunResult& r, const nlohmann::json& c,
+                         const std::string& out_dir) {
+  using compaction::RunStatus;
+  std::string s = "compaction-run: ";
+  if (r.status != RunStatus::ok) {
+    s += std::string(compaction::to_string(r.status)) + " at eps " + number(r.eps_reached, "%.4f");
+    if (!r.reason.empty()) s += " (" + r.reason + ")";
+    return s + ", not classified; bundle " + out_dir;
+  }
+  const nlohmann::json& f = c.value("features", nlohmann::json::object());
+  if (c["class"].is_string()) {
+    s += "class " + c["class"].get<std::string>() + " (confidence " +
+         number(c["confidence"], "%.2f") + ", runner-up " +
+         (c["runner_up"].is_string() ? c["runner_up"].get<std::string>() : "-") + ")";
+  } else {
+    s += "unclassified (runner-up " +
+         (c["runner_up"].is_string() ? c["runner_up"].get<std::string>() : "-") + ")";
+  }
+  s += ", N_r " + (c["n_reflections"].is_number() ? std::to_string(c["n_reflections"].get<int>()) : "-");
+  if (c["band_speed_ratio"].is_number()) {
+    s += ", c_b/V " + number(c["band_speed_ratio"], "%.3f") + " +- " +
+         number(f.value("band_speed_error", nlohmann::json()), "%.3f") + " (1/(1 - phi) = " +
+         number(f.value("nonreflecting_speed", nlohmann::json()), "%.3f") + ")";
+  }
+  return s + "; bundle " + out_dir;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,8 +108,9 @@ int main(int argc, char** argv) {
   }
   if (mode == cli::ProgressMode::json) log->set_level(spdlog::level::warn);
 
-  log->info("scene S={} R={} phi={} geometry={} cells_per_unit={} cells_per_strut={:.3g} "
+  log->info("scene S={} R={} phi={} geometry={} preset={}{} cells_per_unit={} cells_per_strut={:.3g} "
             "pore_contact={} eps_end={} out={}", p.S, p.R, p.phi, to_string(p.geometry),
+            opt.preset, opt.overridden.empty() ? "" : " overridden=" + opt.overridden.dump(),
             p.grid_cells_per_unit(), p.grid_cells_per_strut(),
             to_string(resolved_pore_contact(p)), p.eps_final(), opt.out_dir);
 
@@ -145,7 +182,10 @@ int main(int argc, char** argv) {
   try {
     const RunResult r = run_scene(p, control);
     if (mode == cli::ProgressMode::bar) std::fputc('\n', stderr);
-    write_bundle(opt.out_dir, p, r, {{"classification", classification_of(p, r)}});
+    const nlohmann::json classification = classification_of(p, r);
+    write_bundle(opt.out_dir, p, r,
+                 {{"classification", classification},
+                  {"numerics", {{"preset", opt.preset}, {"overridden", opt.overridden}}}});
     log->info("done status={} steps={} particles={} wall={:.2f}s ns/particle-step={:.1f}{}{}",
               to_string(r.status), r.steps, r.n_particles, r.wall_seconds,
               r.ns_per_particle_step, r.reason.empty() ? "" : " reason=", r.reason);
@@ -153,7 +193,10 @@ int main(int argc, char** argv) {
       print_json_line({{"event", "done"},
                        {"status", to_string(r.status)},
                        {"reason", r.reason},
+                       {"classification", classification},
                        {"out", opt.out_dir}});
+    } else {
+      std::cout << verdict_line(r, classification, opt.out_dir) << '\n' << std::flush;
     }
     return r.status == RunStatus::cancelled ? 3 : 0;
   } catch (const CheckpointRefused& e) {

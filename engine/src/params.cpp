@@ -106,6 +106,16 @@ void validate_3d(const SceneParams& p, std::vector<FieldError>& e) {
 }
 }  // namespace
 
+SceneParams scene_defaults(Geometry g) {
+  SceneParams p;
+  p.geometry = g;
+  if (g == Geometry::pseudo1d_3d) {
+    p.snapshot_eps.clear();
+    p.movie_d_eps = 0.0;
+  }
+  return p;
+}
+
 PoreContact resolved_pore_contact(const SceneParams& p) {
   if (p.pore_contact != PoreContact::automatic) return p.pore_contact;
   const bool allowed = p.geometry != Geometry::pseudo1d_3d && p.transfer == Transfer::apic &&

@@ -17,6 +17,7 @@ TEST(ClassifyBandA, NonReflectingBandIsAAt20CellsPerUnit) {
   p.R = 1e-5;
   p.phi = 0.4;
   p.cells_per_unit = 20;
+  p.pore_contact = PoreContact::single_field;  // the resolution error above is one field's
   p.eps_end = 0.15;
   p.snapshot_eps.clear();
   const RunResult r = run_scene(p);

@@ -105,6 +105,7 @@ SceneParams band_scene(int cells_per_unit) {
   p.cells_per_unit = cells_per_unit;
   p.eps_end = 0.15;
   p.snapshot_eps = {0.12};
+  p.pore_contact = PoreContact::single_field;  // one velocity field, unless a test says two
   return p;
 }
 

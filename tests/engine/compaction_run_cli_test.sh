@@ -33,6 +33,24 @@ check "check names the field" grep -q -- "--pore-contact (pore_contact): split_f
 "$run" --bogus 1 --out "$out/x" 2> "$out/err"; rc=$?
 check "unknown flag exits 2" test $rc -eq 2
 
+# Presets (compaction/presets.hpp): the runner's defaults are the default preset's; --preset
+# names one; an unknown one names the presets; flags beside a preset override it key by key.
+"$run" --check > "$out/check" 2> "$out/err"; rc=$?
+check "the defaults are a valid scene" test $rc -eq 0
+check "the defaults are the default preset's numerics" grep -q '"cells_per_strut":4.5,.*"pore_contact":"auto"' "$out/check"
+"$run" --check --preset fast > "$out/check" 2> "$out/err"; rc=$?
+check "--preset fast" grep -q '"cells_per_strut":1.8,.*"pore_contact":"single_field"' "$out/check"
+"$run" --preset quick --out "$out/x" 2> "$out/err"; rc=$?
+check "an unknown preset exits 2" test $rc -eq 2
+check "an unknown preset names the presets" grep -q -- "--preset: unknown preset 'quick': the presets are fast, default, reference" "$out/err"
+# Every default a geometry cannot take is its own: a 3D scene without numerics flags is valid.
+"$run" --check --geometry pseudo1d_3d > "$out/check" 2> "$out/err"; rc=$?
+check "a 3D scene with its defaults is valid" test $rc -eq 0
+check "3D defaults: no snapshots, no movie" grep -q '"movie_d_eps":0.0.*"snapshot_eps":\[\]' "$out/check"
+"$run" --check --geometry pseudo1d_3d --movie-d-eps 0.02 > "$out/check" 2> "$out/err"; rc=$?
+check "a flag a geometry cannot take exits 2" test $rc -eq 2
+check "it names the flag and the geometry" grep -q -- "--movie-d-eps (movie_d_eps) with --geometry pseudo1d_3d" "$out/err"
+
 echo '{"S": 0.05, "R": 0.001, "phi": 0.4, "cells_per_unit": 5, "eps_end": 0.9}' > "$out/scene.json"
 "$run" --scene "$out/scene.json" --eps-end 0.01 --progress json --out "$out/b" > "$out/progress" 2> "$out/err"; rc=$?
 check "run exits 0" test $rc -eq 0
@@ -42,6 +60,14 @@ check "scene file value kept" grep -q '"cells_per_unit": 5' "$out/b/summary.json
 check "json progress has start" grep -q '"event":"start"' "$out/progress"
 check "json progress has progress" grep -q '"event":"progress"' "$out/progress"
 check "json progress has done ok" grep -q '"event":"done".*"status":"ok"\|"status":"ok".*"event":"done"' "$out/progress"
+check "the summary names the preset and what was overridden" grep -q '"overridden": {' "$out/b/summary.json"
+check "cells_per_unit overrides the preset's grid" grep -A4 '"overridden": {' "$out/b/summary.json" | grep -q '"cells_per_unit": 5'
+
+# A run says what it found, in one line on stdout.
+"$run" --S 0.05 --R 0.001 --cells-per-unit 5 --eps-end 0.01 --progress none --out "$out/d" > "$out/said" 2> "$out/err"; rc=$?
+check "a quiet run exits 0" test $rc -eq 0
+check "the last line says the class, its confidence and runner-up, and N_r" grep -q "^compaction-run: \(class [a-f] (confidence [0-9.]*, runner-up [a-f-])\|unclassified (runner-up [a-f-])\), N_r [0-9-]*.*; bundle $out/d\$" "$out/said"
+check "spacetime.png is a figure (900 x 440)" python3 -c "import struct,sys; d=open('$out/d/spacetime.png','rb').read(24); sys.exit(0 if struct.unpack('>II', d[16:24]) == (900, 440) else 1)"
 
 echo '{"S": 0.05, "phi": 0.4, "typo": 1}' > "$out/bad.json"
 "$run" --scene "$out/bad.json" --out "$out/c" 2> "$out/err"; rc=$?

@@ -18,6 +18,7 @@ SceneParams example_a() {
   p.phi = 0.4;
   p.cells_per_unit = 20;
   p.eps_end = 0.6;
+  p.pore_contact = PoreContact::single_field;  // the measured run's: one velocity field
   return p;
 }
 

@@ -147,7 +147,7 @@ struct SceneParams {
   double flip_ratio = 0.95;     // FLIP share of the pic_flip blend               [-]
   Gradient gradient = Gradient::mls;
   PlateContact contact = PlateContact::bonded;
-  PoreContact pore_contact = PoreContact::single_field;
+  PoreContact pore_contact = PoreContact::automatic;  // the default preset's (presets.hpp)
   double perturbation = 0.0;    // random particle offset, fraction of spacing    [-]
   std::uint64_t seed = 1;       // seed of the perturbation and the random structure [-]
 
@@ -188,6 +188,11 @@ struct FieldError {
 // Every problem with the parameters (empty when they are valid). The limits are those of the
 // model's validity and of what a run can afford; the messages name the field and the value.
 std::vector<FieldError> validate(const SceneParams& p);
+
+// The defaults of a scene of geometry g: SceneParams' own, but for what g cannot take (the 3D
+// column runs without snapshots and without a movie). from_json gives a scene whose JSON names
+// its geometry these defaults for the keys it leaves out.
+SceneParams scene_defaults(Geometry g);
 
 // Grid cells across the thinnest strut of the scene (a random structure's thinnest one).
 double thinnest_strut_cells(const SceneParams& p);

@@ -13,8 +13,10 @@ namespace compaction {
 
 nlohmann::json to_json(const SceneParams& p);
 
-// Reads the keys present in j over `p` (absent keys keep their value). Returns every problem
-// found, type errors and validate()'s range errors alike; p is meaningful only when empty.
+// Reads the keys present in j over `p` (absent keys keep their value, but when j moves the scene
+// to another geometry, the keys it leaves out that depend on the geometry take that geometry's
+// defaults: scene_defaults). Returns every problem found, type errors and validate()'s range
+// errors alike; p is meaningful only when empty.
 std::vector<FieldError> from_json(const nlohmann::json& j, SceneParams& p);
 
 }  // namespace compaction

@@ -11,6 +11,7 @@
 #include "compaction/params_json.hpp"
 #include "npy.hpp"
 #include "png_image.hpp"
+#include "spacetime_figure.hpp"
 
 namespace compaction {
 
@@ -35,24 +36,6 @@ double colour_scale(std::vector<float> values) {
   const std::size_t k = static_cast<std::size_t>(0.995 * (values.size() - 1));
   std::nth_element(values.begin(), values.begin() + k, values.end());
   return std::max(1e-12, std::log10(1.0 + values[k]));
-}
-
-void write_spacetime_png(const fs::path& path, const SpaceTimeMap& m) {
-  if (m.n_frames == 0 || m.n_rows == 0) return;
-  const int sx = std::max(1, 800 / m.n_frames), sy = std::max(1, 500 / m.n_rows);
-  const int bar = 24;  // colour bar on the right
-  Image img(m.n_frames * sx + bar + 8, m.n_rows * sy, {255, 255, 255});
-  const double scale = colour_scale(m.values);
-  for (int f = 0; f < m.n_frames; ++f)
-    for (int r = 0; r < m.n_rows; ++r) {
-      const int y0 = (m.n_rows - 1 - r) * sy;  // height grows upwards
-      img.fill_rect(f * sx, y0, (f + 1) * sx, y0 + sy,
-                    inferno(std::log10(1.0 + m.at(f, r)) / scale));
-    }
-  for (int y = 0; y < img.height; ++y)
-    img.fill_rect(img.width - bar, y, img.width, y + 1,
-                  inferno(1.0 - static_cast<double>(y) / (img.height - 1)));
-  write_png(path, img);
 }
 
 void write_snapshot_png(const fs::path& path, const SceneParams& p, const RunResult& r,
@@ -193,7 +176,10 @@ void write_bundle(const fs::path& dir, const SceneParams& p, const RunResult& r,
   const SpaceTimeMap& m = r.spacetime;
   npy::write(dir / "spacetime.npy", m.values.data(),
              {static_cast<std::size_t>(m.n_frames), static_cast<std::size_t>(m.n_rows)});
-  write_spacetime_png(dir / "spacetime.png", m);
+  std::vector<double> frame_eps;
+  frame_eps.reserve(r.frames.size());
+  for (const Frame& f : r.frames) frame_eps.push_back(f.eps);
+  write_spacetime_figure(dir / "spacetime.png", m, frame_eps, p.h0);
   const SpaceTimeMap& v = r.velocity;
   npy::write(dir / "velocity.npy", v.values.data(),
              {static_cast<std::size_t>(v.n_frames), static_cast<std::size_t>(v.n_rows)});

@@ -139,6 +139,7 @@ std::vector<FieldError> from_json(const json& j, SceneParams& p) {
   if (!j.is_object()) return {{"", "scene parameters must be a JSON object"}};
   std::vector<FieldError> errors;
   const auto& table = readers();
+  const Geometry given = p.geometry;
   for (const auto& [key, value] : j.items()) {
     const auto it = table.find(key);
     if (it == table.end()) {
@@ -146,6 +147,12 @@ std::vector<FieldError> from_json(const json& j, SceneParams& p) {
     } else if (!it->second.first(value, p)) {
       errors.push_back({key, std::string("must be ") + it->second.second + ", got " + short_text(value)});
     }
+  }
+  // A scene that moves to another geometry takes that geometry's defaults for what it leaves out.
+  if (p.geometry != given) {
+    const SceneParams d = scene_defaults(p.geometry);
+    if (!j.contains("snapshot_eps")) p.snapshot_eps = d.snapshot_eps;
+    if (!j.contains("movie_d_eps")) p.movie_d_eps = d.movie_d_eps;
   }
   if (errors.empty()) errors = validate(p);
   return errors;
