@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # The main job: installs the dependencies, builds, starts the sweep server on ./data/compaction.db
-# and one worker per core, submits a small demonstration sweep when the database is empty, prints
-# the dashboard's address and runs until Ctrl-C (then stops the workers and the server cleanly).
+# and one worker per core, prints the dashboard's phase map and runs until Ctrl-C (then stops the
+# workers and the server cleanly). On the first start (an empty database) it imports the
+# committed map of the paper's Fig. 2 (studies/phase_map: 200 runs at the default preset), so
+# the map has something worth looking at at once, and submits a small demonstration sweep at the
+# default preset where runs are cheap (large S: a few minutes on two cores); it says when the
+# demonstration is done.
 #   COMPACTION_PORT (default 8080), COMPACTION_WORKERS (default: nproc), COMPACTION_DATA (default
 #   ./data) change the defaults; COMPACTION_SKIP_BUILD=1 with COMPACTION_BIN=DIR runs binaries
 #   built elsewhere.
@@ -51,16 +55,39 @@ for i in $(seq "$n_workers"); do
 done
 
 sweeps=$(curl -fsS "$url/api/v1/sweeps?limit=1" | python3 -c 'import json,sys; print(json.load(sys.stdin)["total"])')
+demo=""
 if [ "$sweeps" = "0" ]; then
-  curl -fsS -X POST "$url/api/v1/sweeps" -H 'Content-Type: application/json' -d '{
-      "name": "demo: phi = 0.4, coarse log grid, fast preset",
-      "S": {"min": 1e-3, "max": 1e-1, "n": 4, "scale": "log"},
-      "R": {"min": 1e-5, "max": 1e-1, "n": 5, "scale": "log"},
+  # The committed Fig. 2 map, as another server would send it (the submit token is open here).
+  curl -fsS -X POST "$url/api/v1/imports" -H 'Content-Type: application/json' \
+    --data-binary @studies/phase_map/results/sweep-2.export.json >/dev/null
+  echo "imported the committed Fig. 2 map (200 runs at phi = 0.4, default preset)"
+  demo=$(curl -fsS -X POST "$url/api/v1/sweeps" -H 'Content-Type: application/json' -d '{
+      "name": "demo: large S at the default preset (cheap runs beside the imported Fig. 2 map)",
+      "S": {"min": 3e-2, "max": 1e-1, "n": 3, "scale": "log"},
+      "R": {"min": 1e-5, "max": 1e-2, "n": 4, "scale": "log"},
       "phi": 0.4,
-      "numerics": {"preset": "fast"}}' >/dev/null
-  echo "submitted the demonstration sweep (20 jobs at phi = 0.4)"
+      "numerics": {"preset": "default", "eps_end": 0.3}}' |
+    python3 -c 'import json,sys; print(json.load(sys.stdin)["id"])')
+  echo "submitted the demonstration sweep $demo: 12 runs at phi = 0.4, S 0.03 to 0.1, R 1e-5 to 1e-2"
 fi
 
-echo "dashboard: $url/   (API: $url/api/v1/openapi.yaml, phase map: $url/api/v1/phase-map?phi=0.4)"
+echo "phase map: $url/#/map?phi=0.4   (sweeps: $url/#/sweeps, API: $url/api/v1/openapi.yaml)"
 echo "server and $n_workers worker(s) running; logs in $data/logs/. Ctrl-C stops them."
+if [ -n "$demo" ]; then
+  # Says when the demonstration is done (a background poll that ends with it, or with the server).
+  (
+    while sleep 5; do
+      state=$(curl -fsS "$url/api/v1/sweeps/$demo" 2>/dev/null | python3 -c '
+import json, sys
+c = json.load(sys.stdin)["counts"]
+left = c.get("queued", 0) + c.get("running", 0)
+print("done %d %d" % (c.get("succeeded", 0), c.get("failed", 0)) if left == 0 else "running")') || exit 0
+      case "$state" in
+        done*) set -- $state
+               echo "the demonstration sweep is done: $2 runs succeeded, $3 failed; see $url/#/map?phi=0.4"
+               exit 0 ;;
+      esac
+    done
+  ) &
+fi
 wait "${pids[0]}"
