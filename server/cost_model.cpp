@@ -9,9 +9,9 @@ double particles(const SceneParams& p) {
 }
 
 double steps(const SceneParams& p) {
+  // The engine's time step with the plate as the fastest particle, over the run's time.
   const double V = p.plate_speed();
-  const double dx = p.unit_cell() / p.grid_cells_per_unit();
-  return p.eps_final() * p.h0 * (p.p_wave_speed() + V) / (V * p.cfl * dx);
+  return p.eps_final() * p.h0 / V / cfl_time_step(p.cfl, p.grid_spacing(), p.p_wave_speed(), V);
 }
 
 double cpu_seconds(const SceneParams& p) {

@@ -76,8 +76,4 @@ void g2p_3d(State3D& s, double dt) {
   s.measure = m;
 }
 
-double stable_dt_3d(const State3D& s, double cfl) {
-  return cfl * s.grid.dx / (s.setup.c_p + std::sqrt(s.measure.max_v2));
-}
-
 }  // namespace compaction

@@ -85,7 +85,7 @@ double thinnest_strut(const SceneParams& p) {
 }  // namespace
 
 double thinnest_strut_cells(const SceneParams& p) {
-  return thinnest_strut(p) / (p.unit_cell() / p.grid_cells_per_unit());
+  return thinnest_strut(p) / p.grid_spacing();
 }
 
 namespace {
@@ -105,6 +105,10 @@ void validate_3d(const SceneParams& p, std::vector<FieldError>& e) {
   if (!p.snapshot_eps.empty()) e.push_back({"snapshot_eps", what + "without snapshots ([])"});
 }
 }  // namespace
+
+double cfl_time_step(double cfl, double dx, double p_wave_speed, double fastest_speed) {
+  return cfl * dx / (p_wave_speed + (std::isfinite(fastest_speed) ? fastest_speed : 0.0));
+}
 
 SceneParams scene_defaults(Geometry g) {
   SceneParams p;
@@ -188,7 +192,7 @@ std::vector<FieldError> validate(const SceneParams& p) {
     // Thin features must still be resolved: the hole and the strut need a grid cell each.
     const int cells_per_unit = p.grid_cells_per_unit();
     const char* field = p.cells_per_unit != 0 ? "cells_per_unit" : "cells_per_strut";
-    const double dx = p.unit_cell() / cells_per_unit;
+    const double dx = p.grid_spacing();
     // A random structure's smallest void and thinnest strut (random_structure) count.
     const bool random = p.structure == Structure::random;
     const double hole = random ? p.unit_cell() * random_structure::smallest_void_fraction(p.phi)

@@ -15,7 +15,7 @@ namespace {
 
 void build_grid(const SceneParams& p, Grid& g) {
   const int cells_per_unit = p.grid_cells_per_unit();
-  g.dx = p.unit_cell() / cells_per_unit;
+  g.dx = p.grid_spacing();
   g.inv_dx = 1.0 / g.dx;
   g.periodic_x = p.geometry == Geometry::pseudo1d;
   g.cells_x = p.cols() * cells_per_unit;

@@ -11,7 +11,7 @@ namespace {
 
 void build_grid(const SceneParams& p, Grid3D& g) {
   const int cells = p.grid_cells_per_unit();
-  g.dx = p.unit_cell() / cells;
+  g.dx = p.grid_spacing();
   g.inv_dx = 1.0 / g.dx;
   g.cells_across = cells;
   g.cells_y = p.n_rows * cells;

@@ -1,15 +1,23 @@
 // What the time steps of the 2D and the 3D engine share (step.cpp, step_3d.cpp,
-// grid_update.cpp, grid_update_3d.cpp): the grid rows a step touches, a stage's timer, and a
-// plate's constraint on a node's normal velocity.
+// grid_update.cpp, grid_update_3d.cpp): what a step leaves, the grid rows a step touches, a
+// stage's timer, and a plate's constraint on a node's normal velocity.
 #pragma once
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include "compaction/params.hpp"
 
 namespace compaction {
+
+// What a step leaves: whether it closed the frame (the clock then stands on the frame's end)
+// and why the state is unusable (empty when it is not).
+struct StepOutcome {
+  bool closes_frame = false;
+  std::string problem;
+};
 
 // Only rows (y-layers in 3D) within reach of a particle can carry mass: the grid stages skip
 // the others (the rows above a descending plate, most of them once the specimen is compacted).

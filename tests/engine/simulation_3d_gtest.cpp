@@ -1,6 +1,7 @@
 // The 3D column's run loop: its stability checks (step and frame), cancellation, progress, and
 // the refusal of checkpoints it cannot write.
-#include "simulation_3d.hpp"
+#include "compaction/simulation.hpp"
+#include "stability_3d.hpp"
 
 #include <gtest/gtest.h>
 
@@ -57,13 +58,13 @@ TEST(Simulation3dGtest, ReportsProgressEveryFrameAndStopsWhenCancelled) {
     ++frames;
     EXPECT_NEAR(g.eps, frames * p.d_eps, 1e-15);
   };
-  const RunResult r = run_column_3d(p, control);
+  const RunResult r = run_scene(p, control);
   ASSERT_EQ(r.status, RunStatus::ok) << r.reason;
   EXPECT_EQ(frames, 10);
   std::atomic<bool> cancel{true};
   RunControl stop;
   stop.cancel = &cancel;
-  const RunResult c = run_column_3d(p, stop);
+  const RunResult c = run_scene(p, stop);
   EXPECT_EQ(c.status, RunStatus::cancelled);
   EXPECT_TRUE(c.frames.empty());
 }
@@ -71,7 +72,7 @@ TEST(Simulation3dGtest, ReportsProgressEveryFrameAndStopsWhenCancelled) {
 TEST(Simulation3dGtest, CheckpointsAreRefusedNotIgnored) {
   RunControl control;
   control.checkpoint_file = "/nonexistent/checkpoint.bin";
-  EXPECT_THROW(run_column_3d(small_column(), control), std::invalid_argument);
+  EXPECT_THROW(run_scene(small_column(), control), std::invalid_argument);
 }
 
 }  // namespace

@@ -174,6 +174,7 @@ struct SceneParams {
                                              : compaction::strut_fraction(phi);
   }
   int grid_cells_per_unit() const;   // cells_per_unit, or derived from cells_per_strut [-]
+  double grid_spacing() const { return unit_cell() / grid_cells_per_unit(); }  // dx   [m]
   double grid_cells_per_strut() const { return grid_cells_per_unit() * strut_fraction(); }
   int cols() const { return geometry == Geometry::full2d ? n_cols : 1; }
   double width() const { return cols() * unit_cell(); }  // (pseudo1d_3d: also the depth) [m]
@@ -188,6 +189,11 @@ struct FieldError {
 // Every problem with the parameters (empty when they are valid). The limits are those of the
 // model's validity and of what a run can afford; the messages name the field and the value.
 std::vector<FieldError> validate(const SceneParams& p);
+
+// The explicit time step of the CFL condition: cfl dx / (c_P + the fastest particle's speed),
+// the one rule the 2D and 3D steps and the service's cost model use. A speed that is not finite
+// counts as 0: the stability checks stop such a run after its step.
+double cfl_time_step(double cfl, double dx, double p_wave_speed, double fastest_speed);
 
 // The defaults of a scene of geometry g: SceneParams' own, but for what g cannot take (the 3D
 // column runs without snapshots and without a movie). from_json gives a scene whose JSON names
