@@ -317,6 +317,7 @@ versions() {
   echo "node $(in_root node --version)"
   echo "npm $(in_root npm --version)"
   echo "playwright-core $(in_root node -p "require('$checkout/tests/browser/node_modules/playwright-core/package.json').version")"
+  echo "@redocly/cli $(in_root node -p "require('$checkout/tests/browser/node_modules/@redocly/cli/package.json').version")"
   echo "chromium $(in_root chromium --version | awk '{print $2}')"
   echo "cmake $(in_root cmake --version | awk 'NR == 1 {print $3}')"
   echo "g++ $(in_root g++ -dumpfullversion) ($(in_root g++ --version | sed -n '1s/^g++ (\(.*\)) .*/\1/p'))"
