@@ -6,7 +6,8 @@
 //   token   the endpoint's token, 401 when missing, 403 when wrong;
 //   length  a write needs Content-Length (411 without one, or for a chunked body) within the
 //           endpoint's limit (413);
-//   type    JSON endpoints take application/json, the result upload multipart/form-data (415).
+//   type    JSON endpoints take application/json (but for an empty body), the result upload
+//           multipart/form-data (415).
 // The connection front (http_front.hpp) runs these checks once a request's head is in; a refused
 // request is answered at once and its connection closed: the body is never read.
 #pragma once

@@ -120,6 +120,13 @@ TEST(RequestGuard, RequiresTheEndpointsContentType) {
   charset.emplace("Content-Type", "Application/JSON; charset=utf-8");
   EXPECT_FALSE(check_request(request("POST", "/api/v1/sweeps", charset), config()));
   expect_refused(request("POST", "/api/v1/jobs/1/complete", json_with("w")), 415, "Content-Type");
+  // An empty body has no type: curl -X POST .../cancel sends Content-Length: 0 and no type.
+  EXPECT_FALSE(check_request(request("POST", "/api/v1/sweeps/3/cancel",
+                                     {{"Content-Length", "0"}, {"Authorization", "Bearer s"}}),
+                             config()));
+  expect_refused(request("POST", "/api/v1/sweeps/3/cancel",
+                         {{"Content-Length", "2"}, {"Content-Type", "text/plain"}, {"Authorization", "Bearer s"}}),
+                 415, "Content-Type");
 }
 
 TEST(Endpoints, AreFoundByMethodAndPathAndEverythingElseIsAnotherRequest) {
