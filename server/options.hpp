@@ -31,7 +31,7 @@ struct ServerOptions {
 };
 
 // Parses argv (environment: COMPACTION_SUBMIT_TOKEN, COMPACTION_WORKER_TOKEN) with the
-// programs' common grammar (engine/apps/command_line.hpp). Returns the options, or nullopt
+// programs' common grammar (engine/cli/command_line.hpp). Returns the options, or nullopt
 // after printing --help or --version (exit 0) or an error naming the flag and its value
 // (exit 2); `exit_code` says which.
 std::optional<ServerOptions> parse_server_options(int argc, char** argv, int& exit_code);
