@@ -2,7 +2,7 @@
 // recovered to within the runs' spacing, uncertainty is high at the boundary, at low
 // confidences and far from data and low inside a region, unlabelled runs do not vote, and the
 // answer is the same bits for the same runs in any order.
-#include "phase_regions.hpp"
+#include "plan/phase_regions.hpp"
 
 #include <gtest/gtest.h>
 
