@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "store/queue_store.hpp"
+#include "store/artifact.hpp"
 
 namespace compaction::server {
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "store/artifact.hpp"
 #include "store/checkpoint_rows.hpp"
 #include "store/job_states.hpp"
 #include "store/store_db.hpp"
@@ -26,15 +27,6 @@ struct Lease {
   std::optional<StoredCheckpoint> checkpoint;  // an earlier lease's: the run goes on from it
 };
 
-// What a worker's upload becomes (checked by result_intake before it gets here).
-struct Artifact {
-  std::string name;
-  std::string content_type;
-  std::string data;
-  // Set when the bytes were written to the artifact's file and released from `data` (an
-  // import writes each run's files as it reads them): the file's size.
-  std::optional<std::size_t> file_size;
-};
 struct ResultRecord {
   std::string status;  // "ok" or "unstable"
   std::string reason;
