@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <random>
 
-#include "store/store_reads.hpp"
+#include "store/sweep_store.hpp"
 
 namespace compaction::server {
 

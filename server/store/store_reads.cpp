@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <tuple>
 
+#include "store/sweep_store.hpp"
+
 namespace compaction::server {
 
 namespace {
@@ -152,17 +154,6 @@ std::vector<std::int64_t> StoreReads::live_adaptive_sweeps_of_job(std::int64_t j
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
   return compaction::server::live_adaptive_sweeps_of_job(*db, job_id);
-}
-
-std::vector<std::int64_t> live_adaptive_sweeps_of_job(sqlite::Database& db, std::int64_t job_id) {
-  auto s = db.prepare(
-      "SELECT s.id FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id"
-      " WHERE sj.job_id = ? AND s.cancelled_at IS NULL AND s.origin_database IS NULL"
-      " AND json_extract(s.request, '$.adaptive') IS NOT NULL ORDER BY s.id");
-  s.bind(1, job_id);
-  std::vector<std::int64_t> out;
-  while (s.step()) out.push_back(s.int64(0));
-  return out;
 }
 
 std::optional<std::vector<JobRecord>> StoreReads::sweep_jobs(std::int64_t id) {

@@ -143,10 +143,6 @@ struct ScrapeMetrics {
   std::vector<std::pair<std::string, std::int64_t>> lease_expiries_by_worker;
 };
 
-// The adaptive sweeps not cancelled that hold the job, in id order, read inside the caller's
-// transaction (StoreReads reads it on its own; the queue within a completion's).
-std::vector<std::int64_t> live_adaptive_sweeps_of_job(sqlite::Database& db, std::int64_t job_id);
-
 class StoreReads {
  public:
   explicit StoreReads(StoreDb& db) : db_(db) {}

@@ -137,4 +137,15 @@ std::optional<std::int64_t> SweepStore::cancel(std::int64_t id, Millis now) {
   return static_cast<std::int64_t>(jobs.size());
 }
 
+std::vector<std::int64_t> live_adaptive_sweeps_of_job(sqlite::Database& db, std::int64_t job_id) {
+  auto s = db.prepare(
+      "SELECT s.id FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id"
+      " WHERE sj.job_id = ? AND s.cancelled_at IS NULL AND s.origin_database IS NULL"
+      " AND json_extract(s.request, '$.adaptive') IS NOT NULL ORDER BY s.id");
+  s.bind(1, job_id);
+  std::vector<std::int64_t> out;
+  while (s.step()) out.push_back(s.int64(0));
+  return out;
+}
+
 }  // namespace compaction::server

@@ -1,6 +1,7 @@
 // Sweeps as the store writes them: a new sweep with its jobs (identical computations shared,
-// finished ones reused, failed or cancelled ones queued again) and the cancel of a sweep. The
-// store takes rows; the planner (planner.hpp: sweep_rows) turns a request into them.
+// finished ones reused, failed or cancelled ones queued again), the cancel of a sweep, and the
+// live adaptive sweeps that hold a job. The store takes rows; the planner (planner.hpp:
+// sweep_rows) turns a request into them.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,10 @@ struct CreatedSweep {
   std::int64_t n_shared = 0;   // already queued or running for another sweep
   std::int64_t n_requeued = 0; // failed or cancelled before, queued again
 };
+
+// The adaptive sweeps not cancelled that hold the job, in id order, read inside the caller's
+// transaction (StoreReads reads it on its own; the queue within a completion's).
+std::vector<std::int64_t> live_adaptive_sweeps_of_job(sqlite::Database& db, std::int64_t job_id);
 
 class SweepStore {
  public:
