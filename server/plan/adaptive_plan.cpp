@@ -12,7 +12,7 @@
 #include "input/api_error.hpp"
 #include "input/json_input.hpp"
 #include "input/safe_text.hpp"
-#include "plan/planner.hpp"
+#include "plan/round_significant.hpp"
 
 namespace compaction::server::adaptive {
 

@@ -13,6 +13,7 @@
 #include "input/api_error.hpp"
 #include "input/json_input.hpp"
 #include "input/safe_text.hpp"
+#include "plan/round_significant.hpp"
 
 namespace compaction::server {
 
@@ -169,13 +170,6 @@ double point_value(const json& point, const char* key, const std::string& where)
 }
 
 }  // namespace
-
-double round_significant(double v) {
-  if (!std::isfinite(v) || v == 0.0) return v;
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return std::strtod(buf, nullptr);
-}
 
 std::vector<double> expand_axis(const json& axis, const std::string& field,
                                 std::size_t max_points) {

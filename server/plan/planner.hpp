@@ -78,8 +78,4 @@ std::vector<double> expand_axis(const nlohmann::json& axis, const std::string& f
 std::string canonical_scene(const SceneParams& p);
 std::string job_identity(const SceneParams& p, const std::string& engine_version);
 
-// Rounds to 12 significant digits so that grid values like 10^(-2) hit the same double as the
-// literal 0.01 does (identical parameters must compare equal for reuse).
-double round_significant(double v);
-
 }  // namespace compaction::server
