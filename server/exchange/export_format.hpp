@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "store/import_rows.hpp"
 #include "store/label_store.hpp"
 #include "store/queue_store.hpp"
 #include "store/store_reads.hpp"
@@ -70,53 +71,13 @@ std::string write_export(const ExportSource& source, const SweepRecord& sweep,
                          ExportArtifacts which = ExportArtifacts::run_page);
 
 // --- reading ---
-
-struct ImportedRun {
-  std::int64_t source_job = 0;        // the job's id in the exporting database
-  std::int64_t position = 0;          // its place in the sweep
-  NewJob job;                         // identity (engine version + canonical scene), scene, S, R...
-  std::string engine_version;
-  std::string origin_database;        // the database that computed it
-  std::int64_t origin_job = 0;        // and the job's id there
-  std::string worker;
-  std::int64_t attempts = 0;
-  std::optional<Millis> started_at, finished_at;
-  Millis result_created_at = 0;       // when the computing server stored the result
-  ResultRecord result;                // from the summary, with the artifacts' bytes
-  std::optional<HumanLabel> human_label;
-  // Set by the importer when it has written the artifacts (result.artifacts then keep their
-  // names and types, their bytes released): the folder below the artifact root and each file's
-  // path, in the order of result.artifacts.
-  std::string staged_folder;
-  std::vector<std::string> staged_paths;
-};
-
-struct ImportedSweep {
-  std::int64_t source_id = 0;         // its id in the exporting database
-  std::string name, request;          // request: JSON text
-  int priority = 0;
-  Millis created_at = 0;
-  std::string origin_database;        // the database it was first made in
-  std::int64_t origin_sweep = 0;      // and its id there
-};
-
-struct ExportFile {
-  int version = 0;
-  Millis exported_at = 0;
-  std::string source_database;
-  std::string source;                 // the "source" object (JSON text), kept as provenance
-  ImportedSweep sweep;
-  std::vector<ImportedRun> runs;  // read_export(text) keeps them here; the streaming reader hands
-                                  // each to its sink instead
-  std::size_t run_count = 0;      // runs in the file
-};
+// The file read: the rows of store/import_rows.hpp (ExportFile, ImportedRun, RunSink).
 
 // Checks the whole file; throws ApiError(422, field, message) at the first problem, the field
 // named as in the file ("runs[3].summary.params.S", "runs[0].artifacts[2].data"). Runs are read
 // one at a time and handed to on_run as each is checked (the file's head is read first, in a
 // pass of its own: `in` is read twice, from its start); a file costs about one run's document at
 // a time, plus what on_run keeps.
-using RunSink = std::function<void(ImportedRun&)>;
 ExportFile read_export(std::FILE* in, const RunSink& on_run);
 
 // The same for a file in memory, every run kept in ExportFile::runs.

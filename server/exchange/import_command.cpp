@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "compaction/result.hpp"
+#include "exchange/export_format.hpp"
 #include "http/http_util.hpp"
 #include "input/api_error.hpp"
 #include "store/clock.hpp"
@@ -29,7 +30,8 @@ json import_outcome_json(const ImportOutcome& o) {
 }
 
 ImportOutcome import_export(Store& store, std::FILE* in, const std::string& importer, Millis now) {
-  const ImportOutcome o = store.imports.import_file(in, importer, now);
+  const ImportOutcome o = store.imports.import_file(
+      [in](const RunSink& on_run) { return read_export(in, on_run); }, importer, now);
   for (const std::int64_t job : o.filled_jobs) store.checkpoints.remove_if_done(job);
   return o;
 }

@@ -157,14 +157,15 @@ void check_provenance(sqlite::Database& w, const ExportFile& f, const std::strin
 
 }  // namespace
 
-ImportOutcome ImportStore::import_file(std::FILE* in, const std::string& importer, Millis now) {
+ImportOutcome ImportStore::import_file(const FileReader& read, const std::string& importer,
+                                       Millis now) {
   std::lock_guard one_at_a_time(import_mutex_);
   Staging staging(db_.files);
   std::vector<ImportedRun> runs;
   ExportFile f;
   {
     auto db = db_.readers.take();
-    f = read_export(in, [&](ImportedRun& run) {
+    f = read([&](ImportedRun& run) {
       if (has_result(*db, run.job.identity)) {
         Staging::release(run);  // its files are here already
       } else {

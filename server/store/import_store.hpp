@@ -23,12 +23,12 @@
 #pragma once
 
 #include <cstdint>
-#include <cstdio>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <vector>
 
-#include "exchange/export_format.hpp"
+#include "store/import_rows.hpp"
 #include "store/store_db.hpp"
 
 namespace compaction::server {
@@ -57,12 +57,16 @@ class ImportStore {
   // This database's id (migration 0005), named as the source of its exports.
   std::string database_id();
 
-  // Reads an export file from `in` (read_export's streaming form) and merges it: each run's
-  // files are written as the run is read (unless its computation has a result here already) and
-  // its bytes released, then the merge is one transaction; on any error nothing is stored and
-  // the files are removed. One import at a time: a second waits, so imports sent in parallel
-  // cost one import's memory. importer: the token that asked (tokens.hpp), for the labels.
-  ImportOutcome import_file(std::FILE* in, const std::string& importer, Millis now);
+  // A reader of one export file that checks it and hands each run to on_run as it is read (the
+  // exchange's read_export(in, on_run), export_format.hpp).
+  using FileReader = std::function<ExportFile(const RunSink& on_run)>;
+
+  // Reads an export file with `read` and merges it: each run's files are written as the run is
+  // read (unless its computation has a result here already) and its bytes released, then the
+  // merge is one transaction; on any error nothing is stored and the files are removed. One
+  // import at a time: a second waits, so imports sent in parallel cost one import's memory.
+  // importer: the token that asked (tokens.hpp), for the labels.
+  ImportOutcome import_file(const FileReader& read, const std::string& importer, Millis now);
 
   // Merges a file read in memory: writes the new results' artifact files (outside the write
   // lock), then merges in one transaction, as import_file does.
