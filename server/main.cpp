@@ -14,12 +14,12 @@
 
 #include <spdlog/spdlog.h>
 
-#include "app.hpp"
-#include "http_server.hpp"
 #include "compaction/result.hpp"
-#include "import_command.hpp"
-#include "lease_rescuer.hpp"
-#include "options.hpp"
+#include "config/options.hpp"
+#include "exchange/import_command.hpp"
+#include "http/http_server.hpp"
+#include "routes/app.hpp"
+#include "store/lease_rescuer.hpp"
 
 using namespace compaction::server;
 

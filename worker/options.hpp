@@ -24,7 +24,7 @@ struct WorkerOptions {
   std::string log_level = "info";
 };
 
-// Parses argv with the programs' common grammar (engine/apps/command_line.hpp); nullopt after
+// Parses argv with the programs' common grammar (engine/cli/command_line.hpp); nullopt after
 // --help or --version (exit_code 0) or an error naming the flag and its value (exit_code 2).
 // The runner must be an executable file (its version is asked for later: runner_version.hpp).
 std::optional<WorkerOptions> parse_worker_options(int argc, const char* const* argv,

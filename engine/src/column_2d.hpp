@@ -5,7 +5,7 @@
 #include <string>
 
 #include "checkpoint.hpp"
-#include "compaction/simulation.hpp"
+#include "compaction/run_control.hpp"
 #include "diagnostics.hpp"
 #include "state.hpp"
 #include "step.hpp"

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "checkpoint.hpp"
-#include "compaction/simulation.hpp"
+#include "compaction/run_control.hpp"
 #include "diagnostics_3d.hpp"
 #include "state_3d.hpp"
 #include "step_3d.hpp"

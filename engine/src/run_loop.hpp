@@ -17,7 +17,7 @@
 #include <string>
 
 #include "checkpoint.hpp"
-#include "compaction/simulation.hpp"
+#include "compaction/run_control.hpp"
 #include "step_helpers.hpp"
 
 namespace compaction {

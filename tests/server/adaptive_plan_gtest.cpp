@@ -2,7 +2,7 @@
 // synthetic label fields over the box (S in [1e-3, 1e-1], R in [1e-5, 1e-1], 5 x 5
 // initial points, 1/8 decade): boundaries located to the finest step with far fewer runs than
 // the full grid, the budget, pending points, spacing, order and determinism.
-#include "adaptive_plan.hpp"
+#include "plan/adaptive_plan.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <set>
 #include <sstream>
 
-#include "api_error.hpp"
-#include "planner.hpp"
+#include "input/api_error.hpp"
+#include "plan/planner.hpp"
 
 using namespace compaction::server::adaptive;
 using compaction::server::ApiError;

@@ -3,15 +3,15 @@
 // results other sweeps have, waits for pending runs, and stops when cancelled. Results are
 // given labels from a known field (label a below R = 1e-3, b above) instead of simulations, so
 // that where the points must go is known.
-#include "adaptive_sweeps.hpp"
+#include "plan/adaptive_sweeps.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "api_error.hpp"
+#include "input/api_error.hpp"
 #include "temp_dir.hpp"
-#include "views.hpp"
+#include "views/views.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

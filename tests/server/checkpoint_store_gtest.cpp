@@ -2,13 +2,13 @@
 // (whose file goes), handed out by find(), read back as stored; resumes recorded under the
 // live lease with a 'resumed' event; the checkpoint removed once the job succeeds or fails
 // for good and kept when it is released or retried; the folders no row names removed at start.
-#include "store.hpp"
+#include "store/store.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "planner.hpp"
+#include "plan/planner.hpp"
 #include "temp_dir.hpp"
 
 using namespace compaction::server;

@@ -1,7 +1,7 @@
-// The cost model (server/cost_model.hpp) against what runs measured: the particles and the time
+// The cost model (server/plan/cost_model.hpp) against what runs measured: the particles and the time
 // steps of example (a) at 20 cells per unit cell (studies/savings/README.md), the factors of the other
 // numerics, and the cost's growth with resolution (cells^3) and with 1 / S.
-#include "cost_model.hpp"
+#include "plan/cost_model.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // GroupCommit on a real SQLite file: the callers that arrive while a batch is written share the
 // next transaction; an item that throws is rolled back alone and its caller gets the exception;
 // a transaction that fails at its commit stores nothing of its batch and tells every caller.
-#include "group_commit.hpp"
+#include "store/group_commit.hpp"
 
 #include <gtest/gtest.h>
 

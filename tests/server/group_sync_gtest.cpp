@@ -1,6 +1,6 @@
 // GroupSync: a caller returns only after a sync that started after its call; concurrent callers
 // share syncs; a failed sync fails every caller it was to cover, and the next one works.
-#include "group_sync.hpp"
+#include "store/group_sync.hpp"
 
 #include <gtest/gtest.h>
 

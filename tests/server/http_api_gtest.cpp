@@ -5,12 +5,12 @@
 
 #include <thread>
 
-#include "app.hpp"
-#include "http_server.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
-#include "endpoints.hpp"
+#include "http/endpoints.hpp"
+#include "http/http_server.hpp"
+#include "routes/app.hpp"
 #include "temp_dir.hpp"
 
 using namespace compaction::server;

@@ -1,6 +1,6 @@
 // The strict reading of a request's head (RFC 9110 / 9112): what clients send is accepted with
 // its fields, and each way a head can be malformed or ambiguous is a refusal with its status.
-#include "http_head.hpp"
+#include "http/http_head.hpp"
 
 #include <gtest/gtest.h>
 

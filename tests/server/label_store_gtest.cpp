@@ -3,10 +3,10 @@
 // before and the classifier's; the reads carry the label beside the classifier's.
 #include <gtest/gtest.h>
 
-#include "planner.hpp"
-#include "store.hpp"
+#include "plan/planner.hpp"
+#include "store/store.hpp"
 #include "temp_dir.hpp"
-#include "views.hpp"
+#include "views/views.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

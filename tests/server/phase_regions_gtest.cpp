@@ -1,8 +1,8 @@
-// Predicted regions (server/phase_regions.hpp) on synthetic label fields: a known boundary is
+// Predicted regions (server/plan/phase_regions.hpp) on synthetic label fields: a known boundary is
 // recovered to within the runs' spacing, uncertainty is high at the boundary, at low
 // confidences and far from data and low inside a region, unlabelled runs do not vote, and the
 // answer is the same bits for the same runs in any order.
-#include "phase_regions.hpp"
+#include "plan/phase_regions.hpp"
 
 #include <gtest/gtest.h>
 

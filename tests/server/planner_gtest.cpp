@@ -1,12 +1,12 @@
 // Sweep planning: grids (log, linear, lists), points, presets, numerics, limits and the
 // field named by each error.
-#include "planner.hpp"
+#include "plan/planner.hpp"
 
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "api_error.hpp"
+#include "input/api_error.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

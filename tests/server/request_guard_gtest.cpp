@@ -1,10 +1,10 @@
 // The request guard's checks on a request's line and headers, before any body is read: each
 // refusal has its status and names its header; the endpoint table is the one the routes use.
-#include "request_guard.hpp"
+#include "http/request_guard.hpp"
 
 #include <gtest/gtest.h>
 
-#include "endpoints.hpp"
+#include "http/endpoints.hpp"
 
 using namespace compaction::server;
 

@@ -1,14 +1,14 @@
 // Checking a worker's upload against its job: the engine's own summary.json is accepted, with
 // the classification when present; mismatched parameters, versions, statuses and file names
 // are refused naming the field.
-#include "result_intake.hpp"
+#include "exchange/result_intake.hpp"
 
 #include <gtest/gtest.h>
 
-#include "api_error.hpp"
 #include "bundle_files.hpp"
 #include "compaction/bundle.hpp"
-#include "planner.hpp"
+#include "input/api_error.hpp"
+#include "plan/planner.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

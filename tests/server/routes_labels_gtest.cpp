@@ -7,12 +7,12 @@
 
 #include <thread>
 
-#include "app.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
-#include "export_format.hpp"
-#include "http_server.hpp"
+#include "exchange/export_format.hpp"
+#include "http/http_server.hpp"
+#include "routes/app.hpp"
 #include "temp_dir.hpp"
 
 using namespace compaction::server;

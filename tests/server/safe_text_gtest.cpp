@@ -1,10 +1,10 @@
 // Text from clients made safe for JSON answers, the log and error messages.
-#include "safe_text.hpp"
+#include "input/safe_text.hpp"
 
 #include <gtest/gtest.h>
 
-#include "json_input.hpp"
-#include "api_error.hpp"
+#include "input/api_error.hpp"
+#include "input/json_input.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

@@ -1,6 +1,6 @@
 // The SQLite layer's kept statements: a statement prepared again is the kept one, with its
 // bindings cleared and its cursor reset; nested uses of one text get a statement each.
-#include "sqlite.hpp"
+#include "store/sqlite.hpp"
 
 #include <gtest/gtest.h>
 

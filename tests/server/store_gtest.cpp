@@ -1,7 +1,7 @@
 // The store: leases, heartbeats, expiry, completion with live tokens only, retries,
 // release, cancellation, reuse of identical parameters, the schema's state machine; the reads
 // as the API shows them (views.hpp).
-#include "store.hpp"
+#include "store/store.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <map>
 
 #include "compaction/result.hpp"
-#include "migrations.hpp"
-#include "planner.hpp"
-#include "sqlite.hpp"
+#include "plan/planner.hpp"
+#include "store/migrations.hpp"
+#include "store/sqlite.hpp"
 #include "temp_dir.hpp"
-#include "views.hpp"
+#include "views/views.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

@@ -1,6 +1,6 @@
 // schema/summary.schema.json accepts what the engine writes and what the committed exports
 // carry (summaries of earlier engine versions among them), and names the field it refuses.
-#include "summary_schema.hpp"
+#include "exchange/summary_schema.hpp"
 
 #include <gtest/gtest.h>
 

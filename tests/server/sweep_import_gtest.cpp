@@ -10,19 +10,19 @@
 #include <memory>
 #include <set>
 
-#include "api_error.hpp"
 #include "bundle_files.hpp"
-#include "base64.hpp"
 #include "compaction/bundle.hpp"
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
-#include "export_format.hpp"
-#include "import_command.hpp"
-#include "planner.hpp"
-#include "result_intake.hpp"
-#include "store.hpp"
+#include "exchange/base64.hpp"
+#include "exchange/export_format.hpp"
+#include "exchange/import_command.hpp"
+#include "exchange/result_intake.hpp"
+#include "input/api_error.hpp"
+#include "plan/planner.hpp"
+#include "store/store.hpp"
 #include "temp_dir.hpp"
-#include "views.hpp"
+#include "views/views.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;

@@ -1,5 +1,5 @@
 // The phase map's background: the classes GET /phase-map/regions predicts from the labelled
-// runs (server/phase_regions.hpp), tinted in the class colours, greyed where the prediction is
+// runs (server/plan/phase_regions.hpp), tinted in the class colours, greyed where the prediction is
 // uncertain (near a boundary, at low confidences, far from any run), as the paper's Fig. 2
 // shades its regions.
 import { CLASSES } from './classes.js';

@@ -6,7 +6,7 @@ import { CLASSES, inkOn, label } from './classes.js';
 import { escapeHtml, when } from './format.js';
 
 const BY_KEY = 'compaction.labelBy';
-const REASON_MAX = 2000, BY_MAX = 200; // the server's rules (server/label_store.hpp)
+const REASON_MAX = 2000, BY_MAX = 200; // the server's rules (server/store/label_store.hpp)
 
 function rememberedBy() {
   try { return localStorage.getItem(BY_KEY) || ''; } catch { return ''; }

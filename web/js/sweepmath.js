@@ -1,4 +1,4 @@
-// The grid arithmetic of the server's planner (server/planner.cpp, expand_axis), mirrored so the
+// The grid arithmetic of the server's planner (server/plan/planner.cpp, expand_axis), mirrored so the
 // dashboard can list phi values of sweeps and count a sweep's jobs before it is submitted.
 
 export function roundSignificant(v) {

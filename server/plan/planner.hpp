@@ -1,0 +1,81 @@
+// Sweep planning: turns a POST /api/v1/sweeps body into the list of scenes to compute.
+//
+//   {"name": "demo",
+//    "points": [{"S": 0.05, "R": 0.001, "phi": 0.4}, ...]          explicit list, or a grid:
+//    "S": {"min": 1e-3, "max": 1e-1, "n": 6, "scale": "log"},       range (log or linear)
+//    "R": [1e-5, 1e-3],                                             explicit values
+//    "phi": 0.4,                                                    one value
+//    "numerics": {"preset": "fast", "cells_per_unit": 8, "eps_end": 0.05, ...},
+//                 ("structure": "random", "seeds": [1, 2, 3] runs each point once per seed)
+//    "priority": 0, "max_attempts": 3}
+//
+// or an adaptive sweep over one phi, which starts from a grid and grows where labels differ
+// (adaptive_plan.hpp; adaptive_sweeps.hpp adds its points as results arrive):
+//    "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
+//                 "initial": {"S": 5, "R": 5}, "resolution_decades": 0.125, "budget": 200}
+//
+// Every scene goes through compaction::from_json (strict types, validate()'s ranges). Errors
+// name the field of the request ("points[2].phi", "S.min", "numerics.cfl") and are thrown as
+// ApiError: 422 for invalid values, 413 for a sweep above the size limit.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "compaction/params.hpp"
+#include "plan/adaptive_plan.hpp"
+#include "store/sweep_store.hpp"
+
+namespace compaction::server {
+
+// The rules of a sweep request beyond the scene's (compaction::limits), served by
+// GET /api/v1/limits so the dashboard's form checks what the planner checks.
+inline constexpr std::size_t kMaxNameBytes = 200;
+inline constexpr int kPriorityMin = -1000, kPriorityMax = 1000, kDefaultPriority = 0;
+inline constexpr int kDefaultMaxAttempts = 3;
+inline constexpr std::size_t kMaxSeeds = 100;  // numerics.seeds: seeds per point
+
+struct PlannerLimits {
+  std::size_t max_points = 2000;  // scenes per sweep
+  int max_attempts = 10;          // upper bound of a sweep's max_attempts
+  std::size_t max_bundle_bytes = std::size_t(256) << 20;  // the server's result upload limit
+};
+
+struct SweepPlan {
+  std::string name;
+  int priority = 0;       // higher runs first, in [-1000, 1000]
+  int max_attempts = 3;   // runs of a job before it stays failed
+  std::string preset;     // the resolution preset the numerics started from
+  std::vector<SceneParams> scenes;  // distinct, in request order (an adaptive sweep's first grid)
+  nlohmann::json request;           // the body as accepted
+  std::optional<adaptive::AdaptiveSpec> adaptive;  // set for an adaptive sweep
+};
+
+SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {});
+
+// The rows the sweep store writes for a plan, each job's identity made with the engine version
+// the new jobs are queued for.
+NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version);
+NewJob job_row(const SceneParams& p, const std::string& engine_version);
+
+// The scenes of further points of an adaptive sweep, from its stored request (its numerics and
+// phi), in the order given.
+std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
+                                         const std::vector<adaptive::Point>& points,
+                                         const PlannerLimits& limits = {});
+
+// Values of one grid axis: a number, an array of numbers, or {"min","max","n","scale"}.
+// Throws ApiError naming `field` (e.g. "S.n").
+std::vector<double> expand_axis(const nlohmann::json& axis, const std::string& field,
+                                std::size_t max_points);
+
+// Canonical form of a scene (compaction::to_json with threads = 1, which does not change the
+// result) and the identity of its computation: engine version + canonical JSON.
+std::string canonical_scene(const SceneParams& p);
+std::string job_identity(const SceneParams& p, const std::string& engine_version);
+
+}  // namespace compaction::server

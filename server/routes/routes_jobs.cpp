@@ -1,0 +1,138 @@
+// /api/v1/jobs (list with filters, show, artifacts), /api/v1/phase-map and the regions its
+// labels predict. The list, the map and the regions are the answers clients poll: served
+// through the answer cache (ETag, If-None-Match).
+#include "routes/app.hpp"
+#include "routes/checkpoint_routes.hpp"
+
+#include "compaction/params.hpp"
+#include "exchange/result_intake.hpp"
+#include "http/endpoints.hpp"
+#include "http/http_util.hpp"
+#include "plan/counted_label.hpp"
+#include "plan/phase_regions.hpp"
+#include "views/views.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+namespace {
+
+// The filters of /phase-map and /phase-map/regions: phi (required), one sweep, one grid.
+struct MapQuery {
+  double phi = 0;
+  std::optional<std::int64_t> sweep, cells_per_unit;
+};
+
+MapQuery map_query(const httplib::Request& req) {
+  MapQuery q;
+  const auto phi = query_number(req, "phi");
+  if (!phi) throw ApiError(422, "phi", "is required (e.g. ?phi=0.4)");
+  q.phi = *phi;
+  q.sweep = query_id(req, "sweep");
+  if (req.has_param("cells_per_unit")) {
+    q.cells_per_unit = query_int(req, "cells_per_unit", 0, static_cast<int>(limits::cells_per_unit.lo),
+                                 static_cast<int>(limits::cells_per_unit.hi));
+  }
+  return q;
+}
+
+// The regions the map's labelled runs predict over the box of all its runs (none without runs).
+std::optional<regions::Regions> predicted_regions(const std::vector<PhaseMapPoint>& points,
+                                                  int grid) {
+  std::vector<adaptive::Point> all;
+  std::vector<adaptive::Labelled> labelled;
+  for (const PhaseMapPoint& p : points) {
+    all.push_back({p.S, p.R});
+    // The classifier's label counts from a stable run's result (an unstable run's label is not
+    // the pattern's); a person's label on a finished run counts as the planner reads it.
+    if (p.state != "succeeded") continue;
+    const bool stable = p.status == std::optional<std::string>("ok");
+    adaptive::Labelled l = counted_label({p.S, p.R}, p.human_label, stable ? p.cls : std::nullopt,
+                                         p.confidence, p.runner_up);
+    if (l.label) labelled.push_back(std::move(l));
+  }
+  const auto box = regions::box_of(all);
+  if (!box) return std::nullopt;
+  return regions::predict(labelled, *box, grid);
+}
+
+}  // namespace
+
+void register_job_routes(httplib::Server& server, App& app) {
+  add_route(server, endpoints::list_jobs, [&app](const httplib::Request& req, httplib::Response& res) {
+    JobFilter f;
+    f.sweep_id = query_id(req, "sweep");
+    if (req.has_param("state")) {
+      f.state = parse_job_state(req.get_param_value("state"));
+      if (!f.state) {
+        throw ApiError(422, "state", "must be queued, running, succeeded, failed or cancelled");
+      }
+    }
+    f.phi = query_number(req, "phi");
+    f.limit = query_int(req, "limit", 100, 1, 1000);
+    f.offset = query_int(req, "offset", 0, 0, 1000000000);
+    app.answers.serve(req, res, app.store.db.writer.commits(),
+                      [&] { return json_text(views::jobs(app.store.reads.jobs(f), f.limit, f.offset)); });
+  });
+
+  add_route(server, endpoints::show_job,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const auto j = app.store.reads.job(path_id(req, 1, "job"));
+               if (!j) throw ApiError(404, "id", "no such job");
+               json out = views::job_detail(*j);
+               // Results of the same computation from other servers that differ from this one.
+               out["conflicting_results"] = json::array();
+               for (const std::string& c : app.store.imports.conflicts(j->job.id)) {
+                 out["conflicting_results"].push_back(json::parse(c));
+               }
+               add_checkpoint_detail(app, j->job.id, out);
+               send_json(res, 200, out);
+             });
+
+  add_route(server, endpoints::list_artifacts,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const std::int64_t id = path_id(req, 1, "job");
+               const auto list = app.store.reads.artifacts(id);
+               if (!list) throw ApiError(404, "id", "no such job");
+               send_json(res, 200, views::artifacts(id, *list));
+             });
+
+  add_route(server, endpoints::artifact,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const std::int64_t id = path_id(req, 1, "job");
+               const std::string name = req.matches[2];
+               if (!valid_artifact_name(name)) throw ApiError(404, "name", "no such artifact");
+               const auto a = app.store.reads.artifact(id, name);
+               if (!a) throw ApiError(404, "name", "no such artifact for job " + std::to_string(id));
+               res.status = 200;
+               res.set_content(a->data, a->content_type.c_str());
+             });
+
+  add_route(server, endpoints::phase_map,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const MapQuery q = map_query(req);
+               app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+                 return views::phase_map(
+                     q.phi, app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit));
+               });
+             });
+
+  add_route(server, endpoints::phase_regions,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const MapQuery q = map_query(req);
+               if (!limits::phi.contains(q.phi)) {
+                 throw ApiError(422, "phi", "must be in " + to_string(limits::phi));
+               }
+               const int grid = query_int(req, "grid", regions::kDefaultGrid, regions::kMinGrid,
+                                          regions::kMaxGrid);
+               app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+                 return json_text(views::phase_regions(
+                     q.phi, q.sweep, q.cells_per_unit,
+                     predicted_regions(app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit),
+                                       grid)));
+               });
+             });
+}
+
+}  // namespace compaction::server

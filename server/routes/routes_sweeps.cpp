@@ -1,0 +1,184 @@
+// /api/v1/sweeps: create (grid, points or adaptive), list (through the answer cache: ETag,
+// If-None-Match), show with progress counts, an adaptive sweep's plan, cancel, export.
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "exchange/export_format.hpp"
+#include "http/endpoints.hpp"
+#include "http/http_util.hpp"
+#include "input/safe_text.hpp"
+#include "plan/cost_model.hpp"
+#include "routes/app.hpp"
+#include "store/clock.hpp"
+#include "views/views.hpp"
+
+namespace compaction::server {
+
+using nlohmann::json;
+
+namespace {
+
+// One cell: numbers as JSON writes them; text quoted when it holds a separator, and, as OWASP
+// recommends against CSV injection, a text cell that a spreadsheet would read as a formula
+// (starting with =, +, -, @, a tab or a carriage return) gets a leading ' and quotes.
+std::string csv_field(const json& v) {
+  if (v.is_null()) return "";
+  std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+  const bool formula = v.is_string() && !s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos;
+  if (formula) s = "'" + s;
+  if (formula || s.find_first_of(",\"\n\r") != std::string::npos) {
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  }
+  return s;
+}
+
+// One line per job of the sweep: its parameters, state and result.
+std::string export_csv(const json& rows) {
+  static const char* job_keys[] = {"id", "S", "R", "phi", "cells_per_unit", "eps_end", "state",
+                                   "attempts", "last_error"};
+  static const char* result_keys[] = {"status", "reason", "class", "confidence", "runner_up",
+                                      "n_reflections", "band_speed_ratio", "eps_reached",
+                                      "wall_seconds", "engine_version", "source_revision"};
+  // A person's label beside the classifier's "class" (empty when nobody set one).
+  static const char* human_keys[] = {"label", "reason", "by", "at"};
+  std::ostringstream out;
+  out << "job_id,S,R,phi,cells_per_unit,eps_end,state,attempts,last_error";
+  for (const char* k : result_keys) out << ',' << k;
+  for (const char* k : human_keys) out << ",human_" << k;
+  out << ",scene\n";
+  for (const json& row : rows) {
+    bool first = true;
+    for (const char* k : job_keys) {
+      out << (first ? "" : ",") << csv_field(row[k]);
+      first = false;
+    }
+    const json& r = row["result"];
+    for (const char* k : result_keys) out << ',' << (r.is_null() ? "" : csv_field(r[k]));
+    const json& h = row["human_label"];
+    for (const char* k : human_keys) out << ',' << (h.is_null() ? "" : csv_field(h[k]));
+    out << ',' << csv_field(row["scene"].dump()) << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace
+
+void register_sweep_routes(httplib::Server& server, App& app) {
+  add_route(server, endpoints::create_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
+    const json body = parse_json_body(req);
+    const SweepPlan plan = plan_sweep(body, app.limits);
+    const CreatedSweep c =
+        app.store.sweeps.create(sweep_rows(plan, app.store.config().engine_version), now_ms());
+    // Points whose results other sweeps have are labelled already: plan past them.
+    if (plan.adaptive) app.adaptive.advance(app.store, app.limits, c.id, now_ms());
+    spdlog::info("sweep created id={} name=\"{}\" jobs={} new={} reused={} shared={} requeued={}",
+                 c.id, log_escape(plan.name), c.n_jobs, c.n_new, c.n_reused, c.n_shared, c.n_requeued);
+    const json out = views::created_sweep(*app.store.reads.sweep(c.id), c, plan.preset);
+    res.set_header("Location", "/api/v1/sweeps/" + std::to_string(c.id));
+    send_json(res, 201, out);
+  });
+
+  // The cost of a sweep before it is created: the planner's jobs (the same 422s as a create)
+  // through the cost model; an adaptive sweep's budget at its initial grid's mean cost.
+  add_route(server, endpoints::estimate_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
+    const SweepPlan plan = plan_sweep(parse_json_body(req), app.limits);
+    views::SweepEstimate e;
+    e.jobs = plan.scenes.size();
+    for (const SceneParams& p : plan.scenes) e.cpu_seconds += cost::cpu_seconds(p);
+    e.max_jobs = plan.adaptive ? plan.adaptive->budget : e.jobs;
+    e.max_cpu_seconds = e.jobs > 0 ? e.cpu_seconds * static_cast<double>(e.max_jobs) / e.jobs : 0;
+    const std::int64_t now = now_ms();
+    e.lease_seconds = app.options.lease_seconds;
+    for (const auto& [name, at] : app.workers.list(now)) {
+      if (now - at <= static_cast<std::int64_t>(app.options.lease_seconds * 1000)) ++e.workers;
+    }
+    send_json(res, 200, views::sweep_estimate(e));
+  });
+
+  add_route(server, endpoints::list_sweeps, [&app](const httplib::Request& req, httplib::Response& res) {
+    const int limit = query_int(req, "limit", 100, 1, 1000);
+    const int offset = query_int(req, "offset", 0, 0, 1000000000);
+    app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+      return json_text(views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset));
+    });
+  });
+
+  add_route(server, endpoints::show_sweep,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const auto s = app.store.reads.sweep(path_id(req, 1, "sweep"));
+               if (!s) throw ApiError(404, "id", "no such sweep");
+               send_json(res, 200, views::sweep(*s));
+             });
+
+  add_route(server, endpoints::cancel_sweep,
+              [&app](const httplib::Request& req, httplib::Response& res) {
+                const std::int64_t id = path_id(req, 1, "sweep");
+                // The body is empty or {}: a cancel takes no arguments.
+                if (!req.body.empty()) {
+                  const json body = parse_json_body(req);
+                  if (!body.is_object()) throw ApiError(422, "body", "must be {} or empty");
+                  for (const auto& [key, value] : body.items()) {
+                    throw ApiError(422, valid_utf8(key.substr(0, 100)), "unknown key");
+                  }
+                }
+                const auto cancelled = app.store.sweeps.cancel(id, now_ms());
+                if (!cancelled) throw ApiError(404, "id", "no such sweep");
+                spdlog::info("sweep cancelled id={} jobs_cancelled={}", id, *cancelled);
+                send_json(res, 200, views::cancelled_sweep(id, *cancelled));
+              });
+
+  add_route(server, endpoints::sweep_plan,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const std::int64_t id = path_id(req, 1, "sweep");
+               const int limit = query_int(req, "limit", 20, 0, 1000);
+               const auto report = AdaptiveSweeps::report(app.store, app.limits, id);
+               if (!report) throw ApiError(404, "id", "no such sweep");
+               send_json(res, 200, views::sweep_plan(id, *report, static_cast<std::size_t>(limit)));
+             });
+
+  add_route(server, endpoints::export_sweep,
+             [&app](const httplib::Request& req, httplib::Response& res) {
+               const std::int64_t id = path_id(req, 1, "sweep");
+               const std::string format =
+                   req.has_param("format") ? req.get_param_value("format") : "json";
+               if (format != "json" && format != "csv" && format != "archive") {
+                 throw ApiError(422, "format", "must be \"json\", \"csv\" or \"archive\"");
+               }
+               const std::string artifacts =
+                   req.has_param("artifacts") ? req.get_param_value("artifacts") : "run_page";
+               if (artifacts != "run_page" && artifacts != "none") {
+                 throw ApiError(422, "artifacts", "must be \"run_page\" or \"none\"");
+               }
+               if (req.has_param("artifacts") && format != "archive") {
+                 throw ApiError(422, "artifacts", "only with format=archive");
+               }
+               if (format == "archive") {  // the file another server imports (export_format.hpp)
+                 const auto file =
+                     export_sweep(app.store, id, req.get_header_value("Host"), now_ms(),
+                                  artifacts == "none" ? ExportArtifacts::none
+                                                      : ExportArtifacts::run_page);
+                 if (!file) throw ApiError(404, "id", "no such sweep");
+                 res.set_header("Content-Disposition",
+                                "attachment; filename=\"sweep-" + std::to_string(id) + ".export.json\"");
+                 res.status = 200;
+                 res.set_content(*file, "application/json");
+                 return;
+               }
+               const auto sweep = app.store.reads.sweep(id);
+               const auto rows = app.store.reads.sweep_jobs(id);
+               if (!sweep || !rows) throw ApiError(404, "id", "no such sweep");
+               const std::string file = "sweep-" + std::to_string(id) + "." + format;
+               res.set_header("Content-Disposition", "attachment; filename=\"" + file + "\"");
+               if (format == "csv") {
+                 res.status = 200;
+                 res.set_content(export_csv(views::sweep_jobs(*rows)), "text/csv");
+               } else {
+                 send_json(res, 200, {{"sweep", views::sweep(*sweep)}, {"jobs", views::sweep_jobs(*rows)}});
+               }
+             });
+}
+
+}  // namespace compaction::server
