@@ -99,6 +99,9 @@ class DeadlineStream final : public httplib::Stream {
   }
 
   ssize_t write(const char* ptr, size_t size) override {
+    // The answer's pace counts from its first byte, not from the request: a handler may work
+    // for long (an import waits for the one before it) before it answers.
+    if (!writing_) write_start_ = Clock::now(), writing_ = true;
     for (;;) {
       if (!is_writable()) return -1;
       const ssize_t n = ::send(c_.fd, ptr, size, MSG_NOSIGNAL | MSG_DONTWAIT);
@@ -128,7 +131,8 @@ class DeadlineStream final : public httplib::Stream {
     return paced_deadline(start_, from_socket_, limits_, c_.request_deadline);
   }
   Clock::time_point write_deadline() const {
-    return paced_deadline(start_, written_, limits_, c_.request_deadline + seconds(limits_.body_grace_seconds));
+    return paced_deadline(writing_ ? write_start_ : Clock::now(), written_, limits_,
+                          c_.request_deadline + seconds(limits_.body_grace_seconds));
   }
 
   Connection& c_;
@@ -137,6 +141,8 @@ class DeadlineStream final : public httplib::Stream {
   std::size_t offset_ = 0;       // into c_.in
   std::size_t from_socket_ = 0;  // bytes the handler read from the socket itself
   std::size_t written_ = 0;
+  bool writing_ = false;
+  Clock::time_point write_start_{};
 };
 
 thread_local bool close_after = false;
