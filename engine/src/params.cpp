@@ -23,6 +23,13 @@ double SceneParams::hole_side() const {
                                                           : std::sqrt(1.0 - phi));
 }
 double strut_fraction(double phi) { return 1.0 - std::sqrt(1.0 - phi); }
+
+double strut_aspect_ratio(double phi) { return strut_fraction(phi) / std::sqrt(1.0 - phi); }
+double buckling_onset_R(double phi) {
+  const double a = strut_aspect_ratio(phi);
+  return M_PI * M_PI * a * a / 12.0;
+}
+double nonreflecting_band_speed(double phi) { return 1.0 / (1.0 - phi); }
 double strut_fraction_3d(double phi) { return 1.0 - std::cbrt(1.0 - phi); }
 
 namespace random_structure {

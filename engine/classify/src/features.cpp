@@ -299,7 +299,7 @@ Features compute_features(const SceneParams& p, const RunResult& r, const FrontT
   Features F;
   F.eps_reached = r.eps_reached;
   const double phi = r.phi_discrete > 0 ? r.phi_discrete : p.phi;
-  F.nonreflecting_speed = 1.0 / (1.0 - phi);
+  F.nonreflecting_speed = nonreflecting_band_speed(phi);
   const double cell = p.unit_cell() / p.h0;
   const Front* prim = primary_front(t);
 

@@ -53,6 +53,11 @@ enum class PoreContact {
 // Limits of validate() that other components serve or check against.
 inline constexpr double kPhiMin = 0.2;          // porous structures: solid fraction range
 inline constexpr double kPhiMax = 0.8;
+// The solid fractions the paper's classification holds for ("between approximately 0.25 and
+// 0.75"): the engine runs the wider range above, the map of a solid fraction outside this one
+// is the model's extrapolation.
+inline constexpr double kModelPhiMin = 0.25;
+inline constexpr double kModelPhiMax = 0.75;
 inline constexpr double kSolidColumnPhi = 1.0;  // no holes: the verification tests' column
 inline constexpr std::size_t kMaxSnapshots = 100;
 // split_fields assumes that no grid node reaches both faces of one strut: a quadratic B-spline
@@ -98,6 +103,14 @@ inline constexpr Range movie_d_eps{0.001, 0.5};  // when set (> 0); 0: no movie;
 double strut_fraction(double phi);
 // The same between two cubic holes of a 3D structure: 1 - (1 - phi)^(1/3).
 double strut_fraction_3d(double phi);
+
+// What the model predicts from phi alone (the paper), served with the phase map:
+// the struts' aspect ratio a = t / l, thickness over length, (1 - sqrt(1 - phi)) / sqrt(1 - phi);
+double strut_aspect_ratio(double phi);
+// the buckling onset R_crit ~ pi^2 a^2 / 12 (Euler buckling of a strut before it yields);
+double buckling_onset_R(double phi);
+// the speed of a non-reflecting band, c_b / V = 1 / (1 - phi) (mass balance: dense behind it).
+double nonreflecting_band_speed(double phi);
 
 // The distribution of the voids of a random structure, the rule build_scene() follows and
 // validate() checks. Each unit cell keeps one square void, whose area is drawn uniformly in

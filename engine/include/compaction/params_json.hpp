@@ -19,4 +19,8 @@ nlohmann::json to_json(const SceneParams& p);
 // errors alike; p is meaningful only when empty.
 std::vector<FieldError> from_json(const nlohmann::json& j, SceneParams& p);
 
+// The same without validate(): unknown keys and wrong types only, for a caller that completes
+// the scene (a sweep's numerics, each point's S, R and phi) before it validates it once.
+std::vector<FieldError> read_json(const nlohmann::json& j, SceneParams& p);
+
 }  // namespace compaction

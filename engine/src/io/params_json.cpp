@@ -135,7 +135,7 @@ std::string short_text(const nlohmann::json& v) {
 }
 }  // namespace
 
-std::vector<FieldError> from_json(const json& j, SceneParams& p) {
+std::vector<FieldError> read_json(const json& j, SceneParams& p) {
   if (!j.is_object()) return {{"", "scene parameters must be a JSON object"}};
   std::vector<FieldError> errors;
   const auto& table = readers();
@@ -154,6 +154,11 @@ std::vector<FieldError> from_json(const json& j, SceneParams& p) {
     if (!j.contains("snapshot_eps")) p.snapshot_eps = d.snapshot_eps;
     if (!j.contains("movie_d_eps")) p.movie_d_eps = d.movie_d_eps;
   }
+  return errors;
+}
+
+std::vector<FieldError> from_json(const json& j, SceneParams& p) {
+  std::vector<FieldError> errors = read_json(j, p);
   if (errors.empty()) errors = validate(p);
   return errors;
 }
