@@ -207,19 +207,23 @@ class Client:
         body = {"name": name, "points": [_point(i, p) for i, p in enumerate(points)]}
         return self._submit(body, preset, numerics, priority, max_attempts)
 
-    def submit_adaptive(self, name, phi, S, R, initial=(5, 5), resolution_decades=0.125,
-                        budget=200, in_flight=None, preset=None, numerics=None, priority=None,
+    def submit_adaptive(self, name, phi, S, R, initial=None, resolution_decades=None,
+                        budget=None, in_flight=None, preset=None, numerics=None, priority=None,
                         max_attempts=None):
         """Submits an adaptive sweep at one phi over the box S = (min, max), R = (min, max):
         an initial log grid of initial = (points in S, points in R), refined where labels
         differ down to resolution_decades, at most budget runs in all and in_flight queued or
-        running at once (None: the server's default). The other arguments are those of
-        submit_grid. The sweep's counts grow as the server adds points (docs/adaptive.md)."""
-        spec = {"S": {"min": S[0], "max": S[1]}, "R": {"min": R[0], "max": R[1]},
-                "initial": {"S": initial[0], "R": initial[1]},
-                "resolution_decades": resolution_decades, "budget": budget}
-        if in_flight is not None:
-            spec["in_flight"] = in_flight
+        running at once. What is None takes the server's default (GET /api/v1/limits,
+        "adaptive": 5 x 5 points, an eighth of a decade, 200 runs). The other arguments are
+        those of submit_grid. The sweep's counts grow as the server adds points
+        (docs/adaptive.md)."""
+        spec = {"S": {"min": S[0], "max": S[1]}, "R": {"min": R[0], "max": R[1]}}
+        if initial is not None:
+            spec["initial"] = {"S": initial[0], "R": initial[1]}
+        for key, value in (("resolution_decades", resolution_decades), ("budget", budget),
+                           ("in_flight", in_flight)):
+            if value is not None:
+                spec[key] = value
         body = {"name": name, "phi": phi, "adaptive": spec}
         return self._submit(body, preset, numerics, priority, max_attempts)
 

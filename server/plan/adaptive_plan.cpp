@@ -315,7 +315,7 @@ AdaptiveSpec parse_spec(const json& a, std::size_t max_points, const std::string
   spec.R = parse_axis(required(a, field, "R"), field + ".R", limits::R);
 
   const std::string f_initial = field + ".initial";
-  const json& initial = required(a, field, "initial");
+  const json initial = a.value("initial", json{{"S", kDefaultInitialPerAxis}, {"R", kDefaultInitialPerAxis}});
   if (!initial.is_object()) invalid(f_initial, "must be an object {S, R}, got " + describe(initial));
   only_keys(initial, f_initial, {"S", "R"});
   const long long nS = integer_at_least(required(initial, f_initial, "S"), f_initial + ".S", kMinInitialPerAxis);
@@ -331,7 +331,7 @@ AdaptiveSpec parse_spec(const json& a, std::size_t max_points, const std::string
   spec.initial_R = static_cast<int>(nR);
 
   const std::string f_res = field + ".resolution_decades";
-  const json& res = required(a, field, "resolution_decades");
+  const json res = a.value("resolution_decades", json(kDefaultResolutionDecades));
   if (!res.is_number() || !std::isfinite(res.get<double>())) {
     invalid(f_res, "must be a finite number, got " + describe(res));
   }
@@ -349,7 +349,8 @@ AdaptiveSpec parse_spec(const json& a, std::size_t max_points, const std::string
   }
 
   const std::string f_budget = field + ".budget";
-  const long long budget = integer_at_least(required(a, field, "budget"), f_budget, nS * nR);
+  const long long budget = integer_at_least(
+      a.value("budget", json(std::max(nS * nR, std::min(kDefaultBudget, max)))), f_budget, nS * nR);
   if (budget > max) {
     invalid(f_budget, std::to_string(budget) + " runs exceed the sweep limit of " +
                           std::to_string(max_points) + " points", 413);

@@ -28,6 +28,13 @@ namespace compaction::server::adaptive {
 // limit (PlannerLimits::max_points), which bounds the budget.
 inline constexpr double kFinestResolutionDecades = 1.0 / 64;  // a 3.7 % step in S or R
 inline constexpr long long kMinInitialPerAxis = 2;            // the box's two corners
+// A request's defaults for what it leaves out (GET /api/v1/limits serves them to the form and
+// the Python client): 5 x 5 initial points, an eighth of a decade (the example of
+// docs/adaptive.md, whose straight boundary across the box took 92 runs and three regions
+// meeting 134), and a budget of 200 runs (or the sweep limit, when lower).
+inline constexpr long long kDefaultInitialPerAxis = 5;
+inline constexpr double kDefaultResolutionDecades = 0.125;
+inline constexpr long long kDefaultBudget = 200;
 
 // Weights of a cell's disagreement (value = weight x the cell's longer side in decades).
 // Two labels differ: the boundary the map is drawn for.
@@ -62,9 +69,10 @@ struct AdaptiveSpec {
   std::size_t in_flight = kDefaultInFlight;
 };
 
-// The spec from the request's "adaptive" object. Errors are ApiError naming the field under
-// `field` ("adaptive.S.min", "adaptive.budget"): 422 for invalid values, 413 for a budget above
-// max_points (the server's sweep limit).
+// The spec from the request's "adaptive" object: S and R required, the rest with the defaults
+// above. Errors are ApiError naming the field under `field` ("adaptive.S.min",
+// "adaptive.budget"): 422 for invalid values, 413 for a budget above max_points (the server's
+// sweep limit).
 AdaptiveSpec parse_spec(const nlohmann::json& adaptive, std::size_t max_points,
                         const std::string& field = "adaptive");
 

@@ -102,20 +102,12 @@ SceneParams base_scene(const json& body, std::string& preset_name,
     numerics.erase("preset");
   }
   SceneParams scene;
-  // The preset's values first: they are valid on their own and only the explicit keys may fail.
+  // The preset's values, then the explicit keys over them. Here only their types: the ranges
+  // (some depend on phi) are validated once, per point, with the point's S, R and phi.
   json merged = compaction::preset_json(*compaction::find_preset(preset_name));
   for (const auto& [key, value] : numerics.items()) merged[key] = value;
   merged["threads"] = 1;
-  // Here only the types: from_json reports type errors, or else validate()'s range errors,
-  // and ranges (some depend on phi) are checked per point with the point's S, R and phi.
-  std::vector<FieldError> errors = from_json(merged, scene);
-  const std::vector<FieldError> ranges = validate(scene);
-  const bool only_ranges = std::all_of(errors.begin(), errors.end(), [&](const FieldError& e) {
-    return std::any_of(ranges.begin(), ranges.end(), [&](const FieldError& r) {
-      return r.field == e.field && r.message == e.message;
-    });
-  });
-  if (!only_ranges) {
+  if (std::vector<FieldError> errors = read_json(merged, scene); !errors.empty()) {
     std::vector<FieldError> named;
     for (auto& e : errors) named.push_back({"numerics." + e.field, e.message});
     throw ApiError(422, std::move(named));
@@ -128,17 +120,17 @@ SceneParams base_scene(const json& body, std::string& preset_name,
   return scene;
 }
 
-// Applies S, R, phi to the base scene and validates the whole; errors are prefixed by `where`
-// for S, R and phi ("points[3].phi", or the axis name) and by "numerics." for the rest.
+// Applies S, R, phi to the base scene and validates the whole, once; errors are prefixed by
+// `where` for S, R and phi ("points[3].phi", or the axis name) and by "numerics." for the rest.
 SceneParams make_scene(const SceneParams& base, double S, double R, double phi,
                        const std::string& where, const PlannerLimits& limits) {
   SceneParams p = base;
-  json point = {{"S", S}, {"R", R}, {"phi", phi}};
+  p.S = S, p.R = R, p.phi = phi;
   if (phi == kSolidColumnPhi) {
     invalid(where + "phi", "must be in [" + num(kPhiMin) + ", " + num(kPhiMax) +
                                "] (the solid column, phi = 1, is for the engine's tests)");
   }
-  std::vector<FieldError> errors = from_json(point, p);
+  std::vector<FieldError> errors = validate(p);
   if (!errors.empty()) {
     std::vector<FieldError> named;
     for (auto& e : errors) {
@@ -170,6 +162,22 @@ double point_value(const json& point, const char* key, const std::string& where)
 }
 
 }  // namespace
+
+std::vector<double> request_phis(const json& request) {
+  try {
+    std::vector<double> out;
+    if (request.contains("points") && request["points"].is_array()) {
+      for (const json& p : request["points"]) {
+        if (p.is_object() && p.contains("phi") && p["phi"].is_number()) out.push_back(p["phi"].get<double>());
+      }
+      return out;
+    }
+    return request.contains("phi") ? expand_axis(request["phi"], "phi", kMaxRequestPhis)
+                                   : std::vector<double>{SceneParams{}.phi};
+  } catch (const ApiError&) {
+    return {};
+  }
+}
 
 std::vector<double> expand_axis(const json& axis, const std::string& field,
                                 std::size_t max_points) {
@@ -337,6 +345,11 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
                                 "(numerics.seed), got " + std::to_string(seeds.size()));
     }
     plan.adaptive = adaptive::parse_spec(body["adaptive"], limits.max_points);
+    // The stored request says what the sweep does: the defaults it took written in.
+    json& spec = plan.request["adaptive"];
+    spec["initial"] = {{"S", plan.adaptive->initial_S}, {"R", plan.adaptive->initial_R}};
+    spec["resolution_decades"] = plan.adaptive->resolution_decades;
+    spec["budget"] = plan.adaptive->budget;
     // The initial grid in the planner's order (cheapest first, as every later point): the
     // queue runs a sweep's jobs in the order they were added.
     const std::size_t n_initial = adaptive::initial_points(*plan.adaptive).size();

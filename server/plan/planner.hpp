@@ -68,6 +68,12 @@ std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
                                          const std::vector<adaptive::Point>& points,
                                          const PlannerLimits& limits = {});
 
+// The solid fractions a stored request covers, in its order (its points' phi, or its phi axis,
+// else the scene's default): what the dashboard lists a sweep under. A request this server
+// cannot read (an import of another version) covers none.
+std::vector<double> request_phis(const nlohmann::json& request);
+inline constexpr std::size_t kMaxRequestPhis = 1000;
+
 // Values of one grid axis: a number, an array of numbers, or {"min","max","n","scale"}.
 // Throws ApiError naming `field` (e.g. "S.n").
 std::vector<double> expand_axis(const nlohmann::json& axis, const std::string& field,

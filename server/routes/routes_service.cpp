@@ -12,6 +12,7 @@
 #include "routes/app.hpp"
 #include "routes/checkpoint_routes.hpp"
 #include "routes/metrics.hpp"
+#include "plan/adaptive_plan.hpp"
 #include "store/clock.hpp"
 
 namespace compaction::server {
@@ -51,7 +52,16 @@ json limits_json(const PlannerLimits& l) {
             {"eps_end", range_json(lim::eps_end)},
             {"snapshot_eps", range_json(lim::snapshot_eps)},
             {"max_snapshots", compaction::kMaxSnapshots},
-            {"movie_d_eps", movie_json()}}}};
+            {"movie_d_eps", movie_json()}}},
+          // Where the paper's classification holds (the scene's phi is what the engine runs).
+          {"model", {{"phi", {{"lo", compaction::kModelPhiMin}, {"hi", compaction::kModelPhiMax}}}}},
+          {"adaptive",
+           {{"initial", {{"S", adaptive::kDefaultInitialPerAxis}, {"R", adaptive::kDefaultInitialPerAxis}}},
+            {"min_initial", adaptive::kMinInitialPerAxis},
+            {"resolution_decades", adaptive::kDefaultResolutionDecades},
+            {"finest_resolution_decades", adaptive::kFinestResolutionDecades},
+            {"budget", std::min<long long>(adaptive::kDefaultBudget, static_cast<long long>(l.max_points))},
+            {"in_flight", adaptive::kDefaultInFlight}}}};
 }
 
 // Counts an answer by its class and logs it (a refusal with its body, at info).

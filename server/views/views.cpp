@@ -7,6 +7,7 @@
 
 #include "compaction/params.hpp"
 #include "plan/cost_model.hpp"
+#include "plan/planner.hpp"
 #include "views/json_opt.hpp"
 #include "views/label_views.hpp"
 
@@ -81,6 +82,7 @@ json sweep(const SweepRecord& s) {
           {"state", state},
           {"counts", counts(s.counts)},
           {"progress", total > 0 ? static_cast<double>(finished) / total : 1.0},
+          {"phis", request_phis(json::parse(s.request))},
           {"imported", sweep_origin(s)}};
 }
 
@@ -215,11 +217,21 @@ json sweep_jobs(const std::vector<JobRecord>& rows) {
   return out;
 }
 
+json model(double phi) {
+  if (!(phi > 0.0 && phi < 1.0)) return nullptr;
+  return {{"strut_fraction", strut_fraction(phi)},
+          {"strut_aspect_ratio", strut_aspect_ratio(phi)},
+          {"buckling_R", buckling_onset_R(phi)},
+          {"nonreflecting_band_speed", nonreflecting_band_speed(phi)}};
+}
+
 std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
   // Keys in the order a json object writes them (sorted).
   JsonText t;
   t.out.reserve(64 + points.size() * 500);
   t.out += "{";
+  t.key("model");
+  t.out += model(phi).dump();
   t.key("phi").value(phi);
   t.key("points");
   t.out += '[';

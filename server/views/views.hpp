@@ -29,6 +29,9 @@ nlohmann::json sweep_jobs(const std::vector<JobRecord>& rows);
 // The phase map as JSON text, written directly: 10 000 points as json objects took most of the
 // answer's time (an object per point, a map node per field).
 std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points);
+// What the model predicts at phi (compaction/params.hpp): the struts' fraction of the unit cell
+// and aspect ratio, the buckling onset R_crit, the non-reflecting band's speed; null outside (0, 1).
+nlohmann::json model(double phi);
 nlohmann::json artifacts(std::int64_t job_id, const std::vector<ArtifactInfo>& list);
 // What a sweep would cost (POST /sweeps/estimate): its jobs, CPU time from the cost model and
 // the time to finish on the workers connected (null without one).

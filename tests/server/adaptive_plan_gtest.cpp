@@ -183,6 +183,21 @@ TEST(AdaptiveSpec, TheIssuesBodyParses) {
   EXPECT_DOUBLE_EQ(steps.R, 0.125) << "1 decade halved three times";
 }
 
+TEST(AdaptiveSpec, WhatARequestLeavesOutTakesTheServersDefaults) {
+  const json box = {{"S", {{"min", 3e-3}, {"max", 3e-2}}}, {"R", {{"min", 1e-5}, {"max", 1e-2}}}};
+  const AdaptiveSpec s = parse_spec(box, 2000);
+  EXPECT_EQ(s.initial_S, kDefaultInitialPerAxis);
+  EXPECT_EQ(s.initial_R, kDefaultInitialPerAxis);
+  EXPECT_EQ(s.resolution_decades, kDefaultResolutionDecades);
+  EXPECT_EQ(s.budget, static_cast<std::size_t>(kDefaultBudget));
+  // Below the sweep limit the default budget is the limit, never less than the initial grid.
+  EXPECT_EQ(parse_spec(box, 100).budget, 100u);
+  json big = box;
+  big["initial"] = {{"S", 20}, {"R", 20}};
+  big["resolution_decades"] = 0.03;
+  EXPECT_EQ(parse_spec(big, 2000).budget, 400u);
+}
+
 TEST(AdaptiveSpec, TheFinestStepIsTheLastHalvingNotBelowTheResolution) {
   json b = issue_body();
   b["initial"]["S"] = 6;  // 0.4 decade: 0.2 is the last halving >= 0.125

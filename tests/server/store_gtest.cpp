@@ -574,7 +574,8 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
                      {"eps_end", p.eps_end}, {"progress_eps", opt(p.progress_eps)},
                      {"human_label", opt(p.human_label)}, {"structure", p.structure}});
     }
-    return json{{"phi", phi}, {"points", out}}.dump(-1, ' ', false, json::error_handler_t::replace);
+    return json{{"model", views::model(phi)}, {"phi", phi}, {"points", out}}
+        .dump(-1, ' ', false, json::error_handler_t::replace);
   };
   PhaseMapPoint done;
   done.S = 1e-5, done.R = 0.1, done.phi = 0.4, done.eps_end = 0.2, done.state = "succeeded";
