@@ -56,9 +56,11 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
     await waitFor(async () => /must be in \(0, 1\)/.test(await page.locator('#err-s-min').innerText()), { what: 'the S min error' });
     await fillForm(page, { 'r-n': '0', phi: '0.9' });
     await waitFor(async () => (await page.locator('#err-r-n').innerText()).length > 0 && /\[0.2, 0.8\]/.test(await page.locator('#err-phi').innerText()), { what: 'the R points and phi errors' });
-    await fillForm(page, { cpu: '3', phi: '0.4' });
-    await waitFor(async () => /too coarse/.test(await page.locator('#err-cpu').innerText()), { what: 'the cells-per-unit error' });
     await shot(page, '01-sweep-form-invalid');
+    // A grid too coarse for its phi: the server's estimate says so once the rest is valid, at
+    // the field it names.
+    await fillForm(page, { 's-min': '0.03', 's-max': '0.1', 'r-n': '2', cpu: '3', phi: '0.4' });
+    await waitFor(async () => /too coarse/.test(await page.locator('#err-cpu').innerText()), { what: 'the cells-per-unit error' });
     assert.equal((await h.api('/sweeps')).json.total, 0, 'an invalid form must not create a sweep');
 
     // --- A valid 2 x 2 sweep.
@@ -185,7 +187,7 @@ test('a sweep submitted through the form fills the phase map live; its runs rend
     assert.equal(csv.trim().split('\n').length, 5, 'CSV export: a header and four jobs');
     await shot(page, '07-sweeps');
 
-    assert.deepEqual(h.pageErrors, [], 'no errors in the page');
+    assert.deepEqual(h.pageErrors.filter((e) => !/422/.test(e)), [], 'no errors in the page besides the estimate that refused the coarse grid');
   } catch (e) {
     for (const [k, v] of Object.entries(h.logs)) if (v) console.log(`# ${k} log tail:\n${v.slice(-3000)}`);
     throw e;

@@ -1,10 +1,10 @@
-// The sweep form's rules (web/js/sweepform.js) and the planner's grid (web/js/sweepmath.js) in
-// plain node: what the browser shows next to each field, and the job count before submitting.
+// The sweep form's rules (web/js/sweepform.js) in plain node: what the browser shows next to each
+// field, and the job count before submitting; what the server says of the same bodies (the
+// estimate's refusals, a sweep's phi values, the adaptive defaults).
 // The limits come from a real compaction-server (GET /api/v1/limits), as in the dashboard.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
-import { validateSweep as validateWith, validateAdaptive as validateAdaptiveWith, formFieldOf, coarsestCellsPerUnit } from '../../web/js/sweepform.js';
-import { expandAxis, sweepPhis } from '../../web/js/sweepmath.js';
+import { validateSweep as validateWith, validateAdaptive as validateAdaptiveWith, formFieldOf } from '../../web/js/sweepform.js';
 import { Harness } from './lib/harness.mjs';
 
 const harness = new Harness('sweepform');
@@ -41,15 +41,20 @@ test('S and R outside (0, 1) are reported at the field', () => {
   assert.match(validateSweep({ ...base, sMin: 'abc' }).errors['s-min'], /number/);
 });
 
-test('phi outside [0.2, 0.8], bad counts and too coarse grids are refused', () => {
-  assert.match(validateSweep({ ...base, phi: '0.9' }).errors.phi, /\[0.2, 0.8\]/);
+test('phi outside [0.2, 0.8], bad counts and too coarse grids are refused', async () => {
+  assert.match(validateSweep({ ...base, phi: '0.9' }).errors.phi, /\[0.2, 0.8\] \(the model is meant for 0.25 to 0.75\)/);
   assert.ok(validateSweep({ ...base, sN: '0' }).errors['s-n']);
   assert.ok(validateSweep({ ...base, rN: '2.5' }).errors['r-n']);
-  assert.match(validateSweep({ ...base, cpu: '4' }).errors.cpu, /too coarse for φ = 0.4/);
-  assert.equal(validateSweep({ ...base, cpu: '5' }).ok, true);
+  // A grid too coarse for a phi: the server's estimate says so, naming the field the form shows.
+  const coarse = validateSweep({ ...base, cpu: '4' });
+  assert.equal(coarse.ok, true, JSON.stringify(coarse.errors));
+  const refused = await harness.api('/sweeps/estimate', coarse.body);
+  assert.equal(refused.status, 422, JSON.stringify(refused.json));
+  assert.equal(formFieldOf(refused.json.error.field), 'cpu');
+  assert.match(refused.json.error.message, /too coarse for phi = 0.4/);
+  assert.equal((await harness.api('/sweeps/estimate', validateSweep({ ...base, cpu: '5' }).body)).status, 200);
   assert.match(validateSweep({ ...base, cps: '0.5' }).errors.cps, /a number in \[1, 50\]/);
   assert.deepEqual(validateSweep({ ...base, cps: '6' }).body.numerics, { preset: 'fast', cells_per_strut: 6 });
-  assert.equal(coarsestCellsPerUnit(0.4), 5); // strut 0.225 of a cell side: 5 cells give 1.13
   assert.ok(validateSweep({ ...base, epsEnd: '0.97' }).errors['eps-end']);
   assert.ok(validateSweep({ ...base, priority: '5000' }).errors.priority);
   assert.ok(validateSweep({ ...base, sN: '100', rN: '100' }).errors.count);
@@ -89,14 +94,17 @@ test('empty resolution and budget take the form defaults of 0.125 decades and 20
   assert.equal(r.body.adaptive.budget, 200);
 });
 
-test('an adaptive sweep refuses a list of phi, an empty box and an initial axis of one point', () => {
+test('an adaptive sweep refuses a list of phi, an empty box and an initial axis of one point', async () => {
   assert.match(validateAdaptive({ ...adaptiveBase, phi: '0.3, 0.4' }).errors.phi, /one φ/);
   assert.match(validateAdaptive({ ...adaptiveBase, phi: '0.9' }).errors.phi, /\[0.2, 0.8\]/);
   assert.match(validateAdaptive({ ...adaptiveBase, sMin: '0.1', sMax: '0.1' }).errors['s-max'], /max must be > min/);
   assert.match(validateAdaptive({ ...adaptiveBase, rMin: '0' }).errors['r-min'], /\(0, 1\)/);
   assert.match(validateAdaptive({ ...adaptiveBase, sN: '1' }).errors['s-n'], /≥ 2/);
   assert.ok(validateAdaptive({ ...adaptiveBase, rN: '2.5' }).errors['r-n']);
-  assert.match(validateAdaptive({ ...adaptiveBase, cpu: '4' }).errors.cpu, /too coarse for φ = 0.4/);
+  // The grid too coarse for the phi: the server's estimate names it.
+  const coarse = await harness.api('/sweeps/estimate', validateAdaptive({ ...adaptiveBase, cpu: '4' }).body);
+  assert.equal(coarse.status, 422, JSON.stringify(coarse.json));
+  assert.equal(formFieldOf(coarse.json.error.field), 'cpu');
 });
 
 test('the budget holds the initial grid and stays within the server limit; resolution and in flight are checked', () => {
@@ -181,10 +189,22 @@ test('the movie interval is 0 or in the range of /limits, sent as numerics.movie
   assert.equal(formFieldOf(refused.json.error.field), 'movie');
 });
 
-test('grids match the planner: log spacing, ends exact, 12 significant digits', () => {
-  assert.deepEqual(expandAxis({ min: 1e-3, max: 1e-1, n: 3, scale: 'log' }), [1e-3, 1e-2, 1e-1]);
-  assert.deepEqual(expandAxis({ min: 0.3, max: 0.5, n: 3, scale: 'linear' }), [0.3, 0.4, 0.5]);
-  assert.deepEqual(expandAxis({ min: 0.4, max: 0.9, n: 1 }), [0.4]);
-  assert.deepEqual(sweepPhis({ points: [{ S: 0.1, R: 0.1, phi: 0.35 }] }), [0.35]);
-  assert.deepEqual(sweepPhis({ phi: [0.3, 0.4] }), [0.3, 0.4]);
+test('a sweep lists the solid fractions the planner made of its request', async () => {
+  const grid = await harness.api('/sweeps', validateSweep({ ...base, name: 'two phis', phi: '0.3, 0.4' }).body);
+  assert.equal(grid.status, 201, JSON.stringify(grid.json));
+  assert.deepEqual(grid.json.phis, [0.3, 0.4]);
+  const points = await harness.api('/sweeps', { name: 'points', points: [{ S: 0.1, R: 0.1, phi: 0.35 }] });
+  assert.equal(points.status, 201, JSON.stringify(points.json));
+  assert.deepEqual(points.json.phis, [0.35]);
+});
+
+test('an adaptive sweep without resolution or budget takes the server\'s defaults', async () => {
+  const r = validateAdaptive({ ...adaptiveBase, resolution: '', budget: '' });
+  assert.equal(r.ok, true, JSON.stringify(r.errors));
+  assert.equal(r.body.adaptive.resolution_decades, limits.adaptive.resolution_decades);
+  assert.equal(r.body.adaptive.budget, limits.adaptive.budget);
+  const body = { name: 'defaults', phi: 0.4, adaptive: { S: { min: 3e-3, max: 3e-2 }, R: { min: 1e-5, max: 1e-2 } } };
+  const est = await harness.api('/sweeps/estimate', body);
+  assert.equal(est.status, 200, JSON.stringify(est.json));
+  assert.equal(est.json.jobs, limits.adaptive.initial.S * limits.adaptive.initial.R);
 });

@@ -48,7 +48,10 @@ test('an adaptive sweep submitted through the form grows within its budget, whic
     await waitFor(async () => /25\s*jobs to start, at most 200\s*initial grid 5 S × 5 R/.test(await text(page, 'job-count')), { what: 'the adaptive count' });
     assert.equal(await page.locator('#f-s-scale').isVisible(), false, 'no spacing in adaptive mode');
     for (const id of ['res', 'budget', 'in-flight']) assert.equal(await page.locator(`#f-${id}`).isVisible(), true, `${id} shown`);
-    assert.equal(await page.locator('#f-res').inputValue(), '0.125');
+    // Empty fields take the server's defaults (GET /limits, adaptive), shown as their placeholders.
+    assert.equal(await page.locator('#f-res').inputValue(), '');
+    assert.equal(await page.locator('#f-res').getAttribute('placeholder'), '0.125');
+    assert.equal(await page.locator('#f-budget').getAttribute('placeholder'), '200');
     assert.equal(await page.locator('label[for="f-s-n"]').innerText(), 'initial points');
     await shot(page, '11-sweep-form-adaptive');
 

@@ -1,17 +1,12 @@
 // Validation of the sweep form, without the DOM (tests/browser/sweepform_test.mjs runs it in
-// node). The limits are the server's own (GET /api/v1/limits: the planner's rules and the
-// scene's ranges), so a person sees the problem next to the field before submitting; the
-// server still validates everything.
-import { expandAxis } from './sweepmath.js';
+// node). The limits are the server's own (GET /api/v1/limits: the planner's rules, the scene's
+// ranges, the model's phi and the adaptive defaults), so a person sees the problem next to the
+// field before submitting. What depends on more than one field's range (a grid too coarse for
+// a phi, an adaptive resolution against its initial step) is the server's to say: the page
+// asks for the sweep's estimate as the form changes and shows its 422 at the field it names.
 
 const num = (s) => (typeof s === 'string' && s.trim() !== '' ? Number(s) : NaN);
 const isInt = (v) => Number.isInteger(v);
-
-// The engine requires at least one grid cell across each hole and each strut.
-export function coarsestCellsPerUnit(phi) {
-  const s = Math.sqrt(1 - phi);
-  return Math.ceil(Math.max(1 / s, 1 / (1 - s)) - 1e-12);
-}
 
 // "[0.2, 0.8]" or "(0, 1)", as the server writes a range.
 const show = (r) => `${r.open ? '(' : '['}${r.lo}, ${r.hi}${r.open ? ')' : ']'}`;
@@ -40,16 +35,17 @@ function sweepName(v, sweep, errors) {
   return name;
 }
 
-function phiValues(v, scene, errors) {
+function phiValues(v, limits, errors) {
+  const { scene, model } = limits;
   const phis = (v.phi || '').trim().split(/[\s,;]+/).filter(Boolean).map(Number);
   if (!phis.length) errors.phi = 'one or more values, e.g. 0.4 or 0.3, 0.4';
   else if (phis.some((p) => !Number.isFinite(p))) errors.phi = 'numbers separated by commas';
-  else if (phis.some((p) => !inside(scene.phi, p))) errors.phi = `φ must be in ${show(scene.phi)} (the model is meant for 0.25 to 0.75)`;
+  else if (phis.some((p) => !inside(scene.phi, p))) errors.phi = `φ must be in ${show(scene.phi)} (the model is meant for ${model.phi.lo} to ${model.phi.hi})`;
   else if (new Set(phis).size !== phis.length) errors.phi = 'a value is listed twice';
   return phis;
 }
 
-function numericsOf(v, scene, phis, errors) {
+function numericsOf(v, scene, errors) {
   const numerics = { preset: v.preset || 'default' };
   if ((v.cps || '').trim() !== '') {
     // Whether the grid it gives fits at each phi is the server's to say (it names the field).
@@ -61,11 +57,7 @@ function numericsOf(v, scene, phis, errors) {
     const c = num(v.cpu);
     const cells = scene.cells_per_unit;
     if (!isInt(c) || !inside(cells, c)) errors.cpu = `a whole number from ${cells.lo} to ${cells.hi}`;
-    else {
-      const bad = phis.filter((p) => Number.isFinite(p) && inside(scene.phi, p) && c < coarsestCellsPerUnit(p));
-      if (bad.length) errors.cpu = `too coarse for φ = ${bad[0]}: needs ≥ ${coarsestCellsPerUnit(bad[0])} so that holes and struts span a cell`;
-      numerics.cells_per_unit = c;
-    }
+    else numerics.cells_per_unit = c;
   }
   if ((v.epsEnd || '').trim() !== '') {
     const e = num(v.epsEnd);
@@ -129,8 +121,8 @@ export function validateSweep(v, limits) {
   const name = sweepName(v, sweep, errors);
   const S = axis(v, 's', 'S', scene.S, sweep.max_points, errors);
   const R = axis(v, 'r', 'R', scene.R, sweep.max_points, errors);
-  const phis = phiValues(v, scene, errors);
-  const numerics = numericsOf(v, scene, phis, errors);
+  const phis = phiValues(v, limits, errors);
+  const numerics = numericsOf(v, scene, errors);
   const perPoint = structureOf(v, sweep, numerics, false, errors);
   const queue = queueOf(v, sweep, errors);
 
@@ -148,11 +140,6 @@ export function validateSweep(v, limits) {
   };
   return { errors, body, count, dims: [nS, nR, nPhi], ok: Object.keys(errors).length === 0 };
 }
-
-// The form's defaults of an adaptive sweep (docs/adaptive.md): an eighth of a decade is the
-// finest step of the example there, and 200 runs its budget, where a straight boundary across
-// the default box took 92 and three regions meeting 134.
-export const ADAPTIVE_DEFAULTS = { resolutionDecades: 0.125, budget: 200 };
 
 // An axis of the adaptive box: min < max inside the scene's range (the box is planned on log10),
 // and the initial grid's points on it, both ends included.
@@ -178,9 +165,9 @@ export function validateAdaptive(v, limits) {
   const name = sweepName(v, sweep, errors);
   const S = box(v, 's', 'S', scene.S, errors);
   const R = box(v, 'r', 'R', scene.R, errors);
-  const phis = phiValues(v, scene, errors);
+  const phis = phiValues(v, limits, errors);
   if (!errors.phi && phis.length > 1) errors.phi = `an adaptive sweep maps one φ, got ${phis.length}`;
-  const numerics = numericsOf(v, scene, phis, errors);
+  const numerics = numericsOf(v, scene, errors);
   structureOf(v, sweep, numerics, true, errors);
   const queue = queueOf(v, sweep, errors);
 
@@ -188,10 +175,12 @@ export function validateAdaptive(v, limits) {
   const count = nS * nR;
   if (count > sweep.max_points) errors.count = `an initial grid of ${count} jobs exceeds the server's limit of ${sweep.max_points} per sweep`;
 
-  const res = (v.resolution || '').trim() === '' ? ADAPTIVE_DEFAULTS.resolutionDecades : num(v.resolution);
+  // An empty field takes the server's default (GET /api/v1/limits, adaptive).
+  const defaults = limits.adaptive;
+  const res = (v.resolution || '').trim() === '' ? defaults.resolution_decades : num(v.resolution);
   if (!Number.isFinite(res) || !(res > 0)) errors.res = 'a number of decades > 0, e.g. 0.125';
   const budgetFloor = Math.max(count, 1);
-  const budget = wholeIn(v.budget, Math.min(ADAPTIVE_DEFAULTS.budget, sweep.max_points), budgetFloor, sweep.max_points, 'budget', errors);
+  const budget = wholeIn(v.budget, Math.max(defaults.budget, count), budgetFloor, sweep.max_points, 'budget', errors);
   if (errors.budget && isInt(budget) && budget < count) errors.budget = `at least the initial grid's ${count} runs`;
   const adaptive = {
     S: { min: S.min, max: S.max },
@@ -233,4 +222,3 @@ export function formFieldOf(serverField) {
   return null;
 }
 
-export { expandAxis };

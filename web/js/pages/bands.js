@@ -4,9 +4,8 @@
 import { api } from '../api.js';
 import { CLASSES, label } from '../classes.js';
 import { Plot, logExtent, svgEl, colormap, cssColor } from '../plot.js';
-import { nonReflectingSpeed, stressRatio } from '../physics.js';
+import { stressRatio } from '../physics.js';
 import { sci, fixed, escapeHtml } from '../format.js';
-import { sweepPhis } from '../sweepmath.js';
 import { setParams } from '../router.js';
 
 const POLL_MS = 4000;
@@ -83,9 +82,10 @@ function pageHtml() {
     </div>`;
 }
 
-// The dashed line of a non-reflecting band, c_b/V = 1/(1 - phi), with its label.
-function drawNonReflecting(plot, phi) {
-  const c0 = nonReflectingSpeed(phi);
+// The dashed line of a non-reflecting band, c_b/V = 1/(1 - phi) (the engine's, from the phase
+// map's answer), with its label.
+function drawNonReflecting(plot, c0) {
+  if (!(c0 > 0)) return;
   const y = plot.y.map(c0);
   svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
   svgEl('text', { x: plot.m.l + plot.pw - 8, y: y + 16, 'text-anchor': 'end', class: 'overlay-label' }, plot.front).textContent = `non-reflecting band 1/(1 − φ) = ${c0.toFixed(3)}`;
@@ -179,12 +179,12 @@ function tooltipHtml(p) {
       <tr><th>class</th><td>${CLASSES[p.class] ? `<span class="dot" style="background:${CLASSES[p.class].color}"></span>` : ''}${escapeHtml(label(p.class))}</td></tr></table>`;
 }
 
-// The phi values of every sweep's request, the chosen one included (see docs/dashboard.md, API gaps).
+// The phi values of every sweep (the planner's, `phis` of GET /sweeps), the chosen one included.
 async function loadPhis(chosen) {
   let sweeps = [];
   try { sweeps = (await api.sweeps(1000)).sweeps; } catch { /* offline: only the default phi */ }
-  const phis = new Set(sweeps.flatMap((s) => sweepPhis(s.request)).map((p) => Number(p.toPrecision(12))));
-  const phi = chosen ?? (sweeps.length ? sweepPhis(sweeps[0].request)[0] ?? 0.4 : 0.4);
+  const phis = new Set(sweeps.flatMap((s) => s.phis || []).map((p) => Number(p.toPrecision(12))));
+  const phi = chosen ?? sweeps[0]?.phis?.[0] ?? 0.4;
   phis.add(phi);
   return { phi, phis: [...phis].sort((a, b) => a - b) };
 }
@@ -205,15 +205,15 @@ export function mount(root, params) {
     const box = $('bands-plot');
     box.replaceChildren();
     const width = Math.max(560, Math.min(1100, box.clientWidth || 760));
-    const c0 = nonReflectingSpeed(state.phi);
+    const c0 = state.model?.nonreflecting_band_speed;
     const xs = shown.map((d) => stressRatio(d.p.S, d.p.R));
-    const ys = shown.flatMap((d) => (d.e === null ? [d.v] : [d.v, d.v + d.e, d.v - d.e])).concat([c0]);
+    const ys = shown.flatMap((d) => (d.e === null ? [d.v] : [d.v, d.v + d.e, d.v - d.e])).concat(c0 > 0 ? [c0] : []);
     plot = new Plot(box, {
       width, height: Math.round(Math.min(width * 0.62, Math.max(460, window.innerHeight - 260))), canvas: true, margin: { l: 78, r: 24, t: 18, b: 60 }, title: 'band speed',
       x: { kind: 'log', domain: logExtent(xs, [1e-2, 1e3]), label: 'q_{y} / (ρV^{2}) = R / S^{2}' },
       y: { kind: 'log', domain: logExtent(ys, [0.5, 50]), label: `band speed c_{b} / V (${READINGS[state.reading].name})` },
     });
-    drawNonReflecting(plot, state.phi);
+    drawNonReflecting(plot, c0);
     drawn = shown.map((d, i) => ({ ...d, xv: xs[i], x: plot.cx(xs[i]), y: plot.cy(d.v) }));
     drawErrorBars(plot, drawn);
     const counts = drawMarkers(plot, drawn);
@@ -260,7 +260,7 @@ export function mount(root, params) {
     try {
       const data = await api.phaseMap(state.phi);
       const sig = JSON.stringify(data.points);
-      if (alive && sig !== state.sig) { state.sig = sig; state.points = data.points; render(); }
+      if (alive && sig !== state.sig) { state.sig = sig; state.points = data.points; state.model = data.model; render(); }
     } catch (e) { $('bands-summary').textContent = `offline: ${e.message}`; }
     if (alive) timer = setTimeout(poll, POLL_MS);
   }

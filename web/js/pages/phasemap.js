@@ -9,9 +9,7 @@ import { CLASSES, STATES, category, confidenceFade, drawMarker, label, look, swa
 import { cellAt, cellColor, drawRegions } from '../regions.js';
 import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
-import { bucklingR, strutAspectRatio } from '../physics.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
-import { sweepPhis } from '../sweepmath.js';
 import { setParams } from '../router.js';
 
 const POLL_MS = 2000;
@@ -124,14 +122,15 @@ function fitMarkers(dom, values, px, r) {
   return [10 ** a, 10 ** b];
 }
 
-// The buckling onset R_crit at phi as a dashed line with its label, when it is inside the plot.
-function drawBuckling(plot, phi) {
-  const Rc = bucklingR(phi);
+// The buckling onset R_crit at phi as a dashed line with its label, when it is inside the plot
+// (model: the phase map's answer's, what the engine predicts at phi).
+function drawBuckling(plot, model) {
+  const Rc = model?.buckling_R;
   if (!(Rc > plot.y.d0 && Rc < plot.y.d1)) return;
   const y = plot.y.map(Rc);
   svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
   const t = svgEl('text', { x: plot.m.l + plot.pw - 8, y: y - 7, 'text-anchor': 'end', class: 'overlay-label' }, plot.front);
-  richText(t, `buckling onset R_{crit} = π²a²/12 ≈ ${sciText(Rc, 2)}   (strut aspect ratio a = ${strutAspectRatio(phi).toFixed(3)})`);
+  richText(t, `buckling onset R_{crit} = π²a²/12 ≈ ${sciText(Rc, 2)}   (strut aspect ratio a = ${model.strut_aspect_ratio.toFixed(3)})`);
 }
 
 // One legend line per class, then per state, each with its count.
@@ -282,9 +281,9 @@ export function mount(root, params) {
 
   function fillPhiOptions() {
     const phis = new Set();
-    for (const s of state.sweeps) for (const p of sweepPhis(s.request)) phis.add(Number(p.toPrecision(12)));
+    for (const s of state.sweeps) for (const p of s.phis || []) phis.add(Number(p.toPrecision(12)));
     if (state.phi === null) {
-      const newest = state.sweeps[0] && sweepPhis(state.sweeps[0].request)[0];
+      const newest = state.sweeps[0]?.phis?.[0];
       state.phi = Number.isFinite(newest) ? newest : 0.4;
     }
     phis.add(state.phi);
@@ -382,7 +381,7 @@ export function mount(root, params) {
     shownRegions = drawnRegions ? { ...drawnRegions, data: regionData } : null;
     const marks = drawPoints(plot, pts);
     ({ drawn, positions } = marks);
-    if (state.buckling) drawBuckling(plot, state.phi);
+    if (state.buckling) drawBuckling(plot, state.answer?.model);
     if (!pts.length) {
       const t = svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2, 'text-anchor': 'middle', class: 'empty-note' }, plot.front);
       t.textContent = state.error ? `could not load: ${state.error}` : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;

@@ -2,8 +2,7 @@
 // one phi, with the job count shown before submitting and validation next to each field, and the
 // list of sweeps with progress (against the budget of an adaptive one), cancel and export.
 import { api, submitToken, setSubmitToken } from '../api.js';
-import { validateSweep, validateAdaptive, formFieldOf, ADAPTIVE_DEFAULTS } from '../sweepform.js';
-import { sweepPhis } from '../sweepmath.js';
+import { validateSweep, validateAdaptive, formFieldOf } from '../sweepform.js';
 import { when, escapeHtml, duration } from '../format.js';
 
 const POLL_MS = 2500;
@@ -56,8 +55,8 @@ function pageHtml() {
           </div>
           <fieldset class="adaptive-only"><legend>Refinement <span class="unit">on log S and log R</span></legend>
             <div class="row3">
-              ${field('res', 'resolution <span class="unit">decades</span>', numIn('res', String(ADAPTIVE_DEFAULTS.resolutionDecades)), 'the finest step wanted')}
-              ${field('budget', 'budget <span class="unit">runs</span>', numIn('budget', String(ADAPTIVE_DEFAULTS.budget)), 'at most, the initial grid included')}
+              ${field('res', 'resolution <span class="unit">decades</span>', numIn('res', '', 'placeholder="server default"'), 'the finest step wanted')}
+              ${field('budget', 'budget <span class="unit">runs</span>', numIn('budget', '', 'placeholder="server default"'), 'at most, the initial grid included')}
               ${field('in-flight', 'in flight', numIn('in-flight', '', 'placeholder="server default"'), 'points open at once past the initial grid')}
             </div>
           </fieldset>
@@ -142,7 +141,16 @@ export function mount(root) {
         box.dataset.workers = String(e.workers);
         box.innerHTML = costHtml(e);
       } catch (err) {
-        if (seq === estimateSeq) box.textContent = `no estimate: ${err.message}`;
+        if (seq !== estimateSeq) return;
+        // A rule that spans fields (a grid too coarse for a phi) is the server's: shown at the
+        // field it names.
+        const { errs, rest } = fieldErrors(err.details || []);
+        if (err.status === 422 && Object.keys(errs).length) {
+          showErrors(errs, true);
+          box.textContent = rest.length ? `no estimate: ${rest.join('; ')}` : '';
+        } else {
+          box.textContent = `no estimate: ${err.message}`;
+        }
       }
     }, 250);
   }
@@ -196,7 +204,7 @@ export function mount(root) {
     msg.textContent = 'submitting…';
     try {
       const sweep = await api.createSweep(r.body);
-      const phi = sweepPhis(sweep.request)[0];
+      const phi = sweep.phis?.[0] ?? 0.4;
       msg.className = 'form-message ok';
       const budget = sweep.request.adaptive?.budget;
       msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed)${budget ? `; the server adds points up to ${budget} as results arrive` : ''}. <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
@@ -230,6 +238,9 @@ export function mount(root) {
     limits = l;
     const movie = l.scene?.movie_d_eps;
     if (movie) $('f-movie').placeholder = String(movie.default);  // the scene's default
+    // The adaptive defaults are the server's: an empty field takes them.
+    $('f-res').placeholder = String(l.adaptive.resolution_decades);
+    $('f-budget').placeholder = String(l.adaptive.budget);
     update();
   }).catch(() => {});
 
@@ -317,16 +328,16 @@ function sweepsTableHtml(sweeps, total) {
 
 function sweepRowHtml(s) {
   const c = s.counts;
-  const phi = sweepPhis(s.request)[0] ?? 0.4;
+  const phi = s.phis?.[0] ?? 0.4;
   const rq = s.request;
   const ad = rq.adaptive;
   const grid = ad ? `adaptive from ${ad.initial.S} S × ${ad.initial.R} R<div class="muted">step ${ad.resolution_decades} decades</div>`
-    : rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${sweepPhis(rq).length} φ`;
+    : rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${(s.phis || []).length} φ`;
   // An adaptive sweep's total grows as the server adds points, up to its budget.
   const of = ad ? `<span class="budget" data-budget="${ad.budget}">${c.total} of at most ${ad.budget} runs</span>` : `of ${c.total}`;
   return `<tr data-sweep="${s.id}" class="sw-${s.state}">
     <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}${rq.numerics?.structure === 'random' ? ` · random structure, ${rq.numerics.seeds ? `${rq.numerics.seeds.length} seeds` : `seed ${rq.numerics.seed ?? 1}`}` : ''}</div></td>
-    <td class="small">${grid}<div class="muted">φ = ${sweepPhis(rq).join(', ')}</div></td>
+    <td class="small">${grid}<div class="muted">φ = ${(s.phis || []).join(', ')}</div></td>
     <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
     <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
       ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
