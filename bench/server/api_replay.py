@@ -99,12 +99,41 @@ def read_requests(path):
     return out
 
 
+def strip_added(old, new, added):
+    """new without the keys in added that old does not have, recursively along the shared
+    structure; anything else is kept so that it still compares."""
+    if isinstance(new, dict) and isinstance(old, dict):
+        return {k: strip_added(old[k], v, added) if k in old else v
+                for k, v in new.items() if k in old or k not in added}
+    if isinstance(new, list) and isinstance(old, list) and len(new) == len(old):
+        return [strip_added(o, n, added) for o, n in zip(old, new)]
+    return new
+
+
+def without_added(old_body, new_body, added):
+    """The build's JSON body re-serialised without the added keys, in the baseline's own form
+    when nothing else differs (so the byte comparison stays byte for byte)."""
+    try:
+        old, new = json.loads(old_body), json.loads(new_body)
+    except ValueError:
+        return new_body
+    stripped = strip_added(old, new, added)
+    return old_body if stripped == old else new_body
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", required=True, help="the build to check (its bin/)")
     ap.add_argument("--baseline", required=True, help="the build it must agree with (its bin/)")
     ap.add_argument("--requests", default=os.path.join(ROOT, "bench", "server", "api_requests.txt"))
     ap.add_argument("--out", help="a Markdown report to write")
+    ap.add_argument("--added", action="append", default=[], metavar="KEY",
+                    help="a JSON key the build adds on purpose: removed, at any depth, from the "
+                         "build's JSON answers where the baseline's answer has no such key, "
+                         "before comparing (repeatable)")
+    ap.add_argument("--changed", action="append", default=[], metavar="PATH",
+                    help="a request path whose answer changes on purpose (such as the "
+                         "OpenAPI document that describes an added key); listed, not compared")
     a = ap.parse_args()
     requests = read_requests(a.requests)
     work = tempfile.mkdtemp(prefix="api-replay-")
@@ -123,15 +152,26 @@ def main():
         shutil.rmtree(work, ignore_errors=True)
     differ = []
     for (m, p, _), old, new in zip(requests, answers["baseline"], answers["build"]):
+        if p in a.changed:
+            continue
+        if a.added and old[:2] == new[:2] and old[1] == "application/json":
+            new = new[:2] + (without_added(old[2], new[2], set(a.added)),)
         if old != new:
             differ.append((m, p, old[:2] + (old[2][:200],), new[:2] + (new[2][:200],)))
     total_bytes = sum(len(x[2]) for x in answers["build"])
     lines = ["# API answers of two builds", "",
-             "Made by `python3 bench/server/api_replay.py --bin %s --baseline %s`." % (a.bin, a.baseline), "",
+             "Made by `python3 bench/server/api_replay.py --bin %s --baseline %s%s`." % (
+                 a.bin, a.baseline,
+                 "".join(" --added %s" % k for k in a.added) + "".join(" --changed %s" % c for c in a.changed)), "",
              "%d requests (`%s`), %d bytes of answers: %s." % (
                  len(requests), os.path.relpath(a.requests, ROOT), total_bytes,
                  "every answer identical (status, content type, body)" if not differ
                  else "%d answers differ" % len(differ))]
+    if a.added:
+        lines += ["", "Keys the build adds on purpose, removed from its answers before comparing "
+                  "(where the baseline has none): %s." % ", ".join("`%s`" % k for k in a.added)]
+    if a.changed:
+        lines += ["", "Answers changed on purpose, not compared: %s." % ", ".join("`%s`" % c for c in a.changed)]
     for m, p, old, new in differ:
         lines += ["", "- `%s %s`: baseline %r, build %r" % (m, p, old, new)]
     report = "\n".join(lines) + "\n"
