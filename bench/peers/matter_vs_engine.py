@@ -307,6 +307,7 @@ def main():
                     print("round %d: %s, %d thread(s), %s %s: %.1f ns, %.2f s" % (
                         r + 1, scene, threads, code, variant, res["ns_per_particle_step"],
                         res["wall_seconds"]), file=sys.stderr, flush=True)
+    load = load + os.getloadavg()  # at the start and at the end
     text = report(a, command, started, load, version, flags, rows, check_lines, check_info)
     print(text)
     if a.out:
@@ -320,8 +321,9 @@ def med(rs, key):
 
 def report(a, command, started, load, version, flags, rows, check_lines, check_info):
     L = ["# Matter against our engine on the same scene", ""]
-    L += ["Made by `%s`, started %s, on %s (%d CPUs; load average %.2f %.2f %.2f at the start: the "
-          "machine is shared, so only ratios measured in one session mean anything). Matter: %s "
+    L += ["Made by `%s`, started %s, on %s (%d CPUs; load average %.2f %.2f %.2f at the start "
+          "and %.2f %.2f %.2f at the end: the machine is shared with other work, so only ratios "
+          "measured in one session mean anything). Matter: %s "
           "(%s). Ours: `%s` (`%s`), its release build." % (
               command, started, cpu_model(), os.cpu_count(), *load, a.matter,
               git_head(a.matter), a.run, version), ""]
