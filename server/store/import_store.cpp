@@ -193,18 +193,13 @@ ImportOutcome ImportStore::merge(ExportFile f, Millis now, const std::string& im
   return merge_staged(f, now, importer, staging);
 }
 
-ImportOutcome ImportStore::merge_staged(const ExportFile& f, Millis now,
-                                        const std::string& importer, Staging& staging) {
-  const std::string own = database_id();
-  db_.files.wait_synced();  // the staged files are on disk before a commit names them
-  std::unique_lock lock(db_.write_mutex);
-  sqlite::Transaction tx(db_.writer);
-  sqlite::Database& w = db_.writer;
-  ImportOutcome out;
-  out.runs = static_cast<std::int64_t>(f.runs.size());
+namespace {
 
-  // The sweep: the one made for this source sweep before, the sweep itself when it was made
-  // here (and holds every run of the file), or a new imported sweep.
+// The sweep an import's runs are linked to: the one made for this source sweep before, the
+// sweep itself when it was made here (and holds every run of the file: check_provenance), or a
+// new imported sweep. Returns its id; created says whether it is new.
+std::int64_t merge_sweep(sqlite::Database& w, const ExportFile& f, const std::string& own,
+                         Millis now, const std::string& importer, bool& created) {
   const bool ours = f.sweep.origin_database == own;
   auto find_sweep = w.prepare(
       ours ? "SELECT id FROM sweeps WHERE id = ?2 AND origin_database IS NULL"
@@ -216,158 +211,207 @@ ImportOutcome ImportStore::merge_staged(const ExportFile& f, Millis now,
                                      " of this database, which has no such sweep");
   }
   check_provenance(w, f, own, ours ? std::optional<std::int64_t>(f.sweep.origin_sweep) : std::nullopt);
-  if (found) {
-    out.sweep_id = find_sweep.int64(0);
-  } else {
-    const json origin = {{"source", json::parse(f.source)},
-                         {"source_sweep", f.sweep.source_id},
-                         {"created_at", f.sweep.created_at},
-                         {"exported_at", f.exported_at},
-                         {"imported_at", now},
-                         {"imported_by", importer}};
-    w.prepare(
-         "INSERT INTO sweeps (name, request, priority, created_at, origin_database, origin_sweep,"
-         " origin) VALUES (?, ?, ?, ?, ?, ?, ?)")
-        .bind(1, f.sweep.name)
-        .bind(2, f.sweep.request)
-        .bind(3, f.sweep.priority)
-        .bind(4, now)
-        .bind(5, f.sweep.origin_database)
-        .bind(6, f.sweep.origin_sweep)
-        .bind(7, origin.dump())
-        .run();
-    out.sweep_id = w.last_insert_rowid();
-    out.sweep_created = true;
-  }
-  find_sweep.reset();
+  created = !found;
+  if (found) return find_sweep.int64(0);
+  const json origin = {{"source", json::parse(f.source)},
+                       {"source_sweep", f.sweep.source_id},
+                       {"created_at", f.sweep.created_at},
+                       {"exported_at", f.exported_at},
+                       {"imported_at", now},
+                       {"imported_by", importer}};
+  w.prepare(
+       "INSERT INTO sweeps (name, request, priority, created_at, origin_database, origin_sweep,"
+       " origin) VALUES (?, ?, ?, ?, ?, ?, ?)")
+      .bind(1, f.sweep.name)
+      .bind(2, f.sweep.request)
+      .bind(3, f.sweep.priority)
+      .bind(4, now)
+      .bind(5, f.sweep.origin_database)
+      .bind(6, f.sweep.origin_sweep)
+      .bind(7, origin.dump())
+      .run();
+  return w.last_insert_rowid();
+}
 
-  auto find = w.prepare(
-      "SELECT j.id, j.state, r.job_id IS NOT NULL FROM jobs j LEFT JOIN results r"
-      " ON r.job_id = j.id WHERE j.identity = ?");
-  auto insert_job = w.prepare(
-      "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
-      " state, priority, attempts, max_attempts, run_after, worker, progress_eps, created_at,"
-      " started_at, finished_at, structure)"
-      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, 'succeeded', ?, ?, max(?, 3), ?, ?, ?, ?, ?, ?, ?)");
-  auto fill_job = w.prepare(
-      "UPDATE jobs SET state = 'succeeded', lease_token = NULL, lease_deadline = NULL,"
-      " worker = ?2, progress_eps = ?3, started_at = ?4, finished_at = ?5"
-      " WHERE id = ?1 AND state <> 'succeeded'");
-  auto stored = w.prepare(
-      "SELECT status, reason, class, runner_up, features, confidence, band_speed_ratio,"
-      " eps_reached, n_reflections, origin_database, origin_job FROM results WHERE job_id = ?");
-  auto conflict = w.prepare(
-      "INSERT OR IGNORE INTO result_conflicts (job_id, origin_database, origin_job, status,"
-      " reason, class, confidence, runner_up, n_reflections, band_speed_ratio, features,"
-      " eps_reached, source_revision, worker, created_at, imported_at, summary)"
-      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  auto link = w.prepare(
-      "INSERT OR IGNORE INTO sweep_jobs (sweep_id, job_id, position) VALUES (?, ?, ?)");
+// What merging one run did (import_store.hpp's rule).
+enum class Merged { added, filled, identical, conflict, conflict_known };
 
-  for (std::size_t i = 0; i < f.runs.size(); ++i) {
-    const ImportedRun& run = f.runs[i];
-    const ResultRecord& r = run.result;
-    find.reset();
-    find.bind(1, run.job.identity);
+// Merges runs one by one inside the import's transaction, with its statements prepared once.
+class RunMerger {
+ public:
+  RunMerger(sqlite::Database& w, const std::string& own, const ExportFile& f, Millis now)
+      : w_(w), own_(own), f_(f), now_(now) {}
+
+  // The run's job here (found or made) and what happened to its result.
+  std::pair<std::int64_t, Merged> merge(const ImportedRun& run) {
+    find_.reset();
+    find_.bind(1, run.job.identity);
     std::int64_t job_id = 0;
     bool has_result = false;
     std::string state;
-    if (find.step()) {
-      job_id = find.int64(0);
-      state = find.text(1);
-      has_result = find.int64(2) != 0;
+    if (find_.step()) {
+      job_id = find_.int64(0);
+      state = find_.text(1);
+      has_result = find_.int64(2) != 0;
     }
-    find.reset();
+    find_.reset();
     if (!has_result && run.staged_folder.empty()) {
       // A result that was here when the files were planned can never leave (results are never
       // deleted), so this is a bug, not a race.
       throw sqlite::Error("import: a job lost its result during the import");
     }
-    if (job_id == 0) {
-      insert_job.reset();
-      insert_job.bind(1, run.job.identity)
-          .bind(2, run.job.scene)
-          .bind(3, run.engine_version)
-          .bind(4, run.job.S)
-          .bind(5, run.job.R)
-          .bind(6, run.job.phi)
-          .bind(7, run.job.cells_per_unit)
-          .bind(8, run.job.eps_end)
-          .bind(9, f.sweep.priority)
-          .bind(10, run.attempts)
-          .bind(11, run.attempts)
-          .bind(12, now)
-          .bind(13, run.worker)
-          .bind(14, r.eps_reached)
-          .bind(15, now)
-          .bind(16, run.started_at)
-          .bind(17, run.finished_at)
-          .bind(18, run.job.structure)
-          .run();
-      job_id = w.last_insert_rowid();
-      insert_imported(w, job_id, run, run.staged_paths, now);
-      log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
-                provenance_note(run));
-      staging.keep.insert(run.staged_folder);
-      ++out.added;
-    } else if (!has_result) {
-      fill_job.reset();
-      fill_job.bind(1, job_id)
-          .bind(2, run.worker)
-          .bind(3, r.eps_reached)
-          .bind(4, run.started_at)
-          .bind(5, run.finished_at)
-          .run();
-      insert_imported(w, job_id, run, run.staged_paths, now);
-      log_event(w, job_id, now, "succeeded", static_cast<int>(run.attempts), run.worker,
-                provenance_note(run) + " (was " + state + ")");
-      staging.keep.insert(run.staged_folder);
-      ++out.filled;
-      out.filled_jobs.push_back(job_id);
-    } else {
-      stored.reset();
-      stored.bind(1, job_id);
-      stored.step();
-      const Verdict here{stored.text(0),      stored.opt_text(1).value_or(""), stored.opt_text(2),
-                         stored.opt_text(3),  stored.opt_text(4),             stored.opt_real(5),
-                         stored.opt_real(6),  stored.opt_real(7),             stored.opt_int64(8)};
-      const auto here_db = stored.opt_text(9);
-      const auto here_job = stored.opt_int64(10);
-      stored.reset();
-      const bool same_run = (here_db ? *here_db : own) == run.origin_database &&
-                            (here_db ? here_job.value_or(0) : job_id) == run.origin_job;
-      if (same_run || here == verdict_of(r)) {
-        ++out.identical;
-      } else {
-        conflict.reset();
-        conflict.bind(1, job_id)
-            .bind(2, run.origin_database)
-            .bind(3, run.origin_job)
-            .bind(4, r.status)
-            .bind(5, r.reason)
-            .bind(6, r.cls)
-            .bind(7, r.confidence)
-            .bind(8, r.runner_up)
-            .bind(9, r.n_reflections)
-            .bind(10, r.band_speed_ratio)
-            .bind(11, r.features)
-            .bind(12, r.eps_reached)
-            .bind(13, r.source_revision)
-            .bind(14, run.worker)
-            .bind(15, run.result_created_at)
-            .bind(16, now)
-            .bind(17, r.summary)
-            .run();
-        if (w.changes() > 0) {
-          ++out.conflicts;
-        } else {
-          ++out.conflicts_known;
-        }
-      }
+    if (job_id == 0) return {add(run), Merged::added};
+    if (!has_result) {
+      fill(job_id, run, state);
+      return {job_id, Merged::filled};
     }
-    link.reset();
-    link.bind(1, out.sweep_id).bind(2, job_id).bind(3, run.position).run();
-    if (w.changes() > 0) ++out.linked;
+    return {job_id, compare(job_id, run)};
+  }
+
+  // Links the job to the sweep at the run's position; true when the link is new.
+  bool link(std::int64_t sweep_id, std::int64_t job_id, std::int64_t position) {
+    link_.reset();
+    link_.bind(1, sweep_id).bind(2, job_id).bind(3, position).run();
+    return w_.changes() > 0;
+  }
+
+ private:
+  // No job of this identity here: a new succeeded job with the imported result.
+  std::int64_t add(const ImportedRun& run) {
+    insert_job_.reset();
+    insert_job_.bind(1, run.job.identity)
+        .bind(2, run.job.scene)
+        .bind(3, run.engine_version)
+        .bind(4, run.job.S)
+        .bind(5, run.job.R)
+        .bind(6, run.job.phi)
+        .bind(7, run.job.cells_per_unit)
+        .bind(8, run.job.eps_end)
+        .bind(9, f_.sweep.priority)
+        .bind(10, run.attempts)
+        .bind(11, run.attempts)
+        .bind(12, now_)
+        .bind(13, run.worker)
+        .bind(14, run.result.eps_reached)
+        .bind(15, now_)
+        .bind(16, run.started_at)
+        .bind(17, run.finished_at)
+        .bind(18, run.job.structure)
+        .run();
+    const std::int64_t job_id = w_.last_insert_rowid();
+    insert_imported(w_, job_id, run, run.staged_paths, now_);
+    log_event(w_, job_id, now_, "succeeded", static_cast<int>(run.attempts), run.worker,
+              provenance_note(run));
+    return job_id;
+  }
+
+  // A job here without a result (in any state) takes the imported one.
+  void fill(std::int64_t job_id, const ImportedRun& run, const std::string& state) {
+    fill_job_.reset();
+    fill_job_.bind(1, job_id)
+        .bind(2, run.worker)
+        .bind(3, run.result.eps_reached)
+        .bind(4, run.started_at)
+        .bind(5, run.finished_at)
+        .run();
+    insert_imported(w_, job_id, run, run.staged_paths, now_);
+    log_event(w_, job_id, now_, "succeeded", static_cast<int>(run.attempts), run.worker,
+              provenance_note(run) + " (was " + state + ")");
+  }
+
+  // A job here with a result: the same run or the same verdict is identical; another verdict is
+  // kept beside the stored one, once per source run.
+  Merged compare(std::int64_t job_id, const ImportedRun& run) {
+    const ResultRecord& r = run.result;
+    stored_.reset();
+    stored_.bind(1, job_id);
+    stored_.step();
+    const Verdict here{stored_.text(0),     stored_.opt_text(1).value_or(""), stored_.opt_text(2),
+                       stored_.opt_text(3), stored_.opt_text(4),              stored_.opt_real(5),
+                       stored_.opt_real(6), stored_.opt_real(7),              stored_.opt_int64(8)};
+    const auto here_db = stored_.opt_text(9);
+    const auto here_job = stored_.opt_int64(10);
+    stored_.reset();
+    const bool same_run = (here_db ? *here_db : own_) == run.origin_database &&
+                          (here_db ? here_job.value_or(0) : job_id) == run.origin_job;
+    if (same_run || here == verdict_of(r)) return Merged::identical;
+    conflict_.reset();
+    conflict_.bind(1, job_id)
+        .bind(2, run.origin_database)
+        .bind(3, run.origin_job)
+        .bind(4, r.status)
+        .bind(5, r.reason)
+        .bind(6, r.cls)
+        .bind(7, r.confidence)
+        .bind(8, r.runner_up)
+        .bind(9, r.n_reflections)
+        .bind(10, r.band_speed_ratio)
+        .bind(11, r.features)
+        .bind(12, r.eps_reached)
+        .bind(13, r.source_revision)
+        .bind(14, run.worker)
+        .bind(15, run.result_created_at)
+        .bind(16, now_)
+        .bind(17, r.summary)
+        .run();
+    return w_.changes() > 0 ? Merged::conflict : Merged::conflict_known;
+  }
+
+  sqlite::Database& w_;
+  const std::string& own_;
+  const ExportFile& f_;
+  const Millis now_;
+  sqlite::Statement find_ = w_.prepare(
+      "SELECT j.id, j.state, r.job_id IS NOT NULL FROM jobs j LEFT JOIN results r"
+      " ON r.job_id = j.id WHERE j.identity = ?");
+  sqlite::Statement insert_job_ = w_.prepare(
+      "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
+      " state, priority, attempts, max_attempts, run_after, worker, progress_eps, created_at,"
+      " started_at, finished_at, structure)"
+      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, 'succeeded', ?, ?, max(?, 3), ?, ?, ?, ?, ?, ?, ?)");
+  sqlite::Statement fill_job_ = w_.prepare(
+      "UPDATE jobs SET state = 'succeeded', lease_token = NULL, lease_deadline = NULL,"
+      " worker = ?2, progress_eps = ?3, started_at = ?4, finished_at = ?5"
+      " WHERE id = ?1 AND state <> 'succeeded'");
+  sqlite::Statement stored_ = w_.prepare(
+      "SELECT status, reason, class, runner_up, features, confidence, band_speed_ratio,"
+      " eps_reached, n_reflections, origin_database, origin_job FROM results WHERE job_id = ?");
+  sqlite::Statement conflict_ = w_.prepare(
+      "INSERT OR IGNORE INTO result_conflicts (job_id, origin_database, origin_job, status,"
+      " reason, class, confidence, runner_up, n_reflections, band_speed_ratio, features,"
+      " eps_reached, source_revision, worker, created_at, imported_at, summary)"
+      " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  sqlite::Statement link_ = w_.prepare(
+      "INSERT OR IGNORE INTO sweep_jobs (sweep_id, job_id, position) VALUES (?, ?, ?)");
+};
+
+}  // namespace
+
+// The merge in one transaction: the sweep, then each run (its job, its result, its link to the
+// sweep, its human label); a merge that changes nothing rolls back.
+ImportOutcome ImportStore::merge_staged(const ExportFile& f, Millis now,
+                                        const std::string& importer, Staging& staging) {
+  const std::string own = database_id();
+  db_.files.wait_synced();  // the staged files are on disk before a commit names them
+  std::unique_lock lock(db_.write_mutex);
+  sqlite::Transaction tx(db_.writer);
+  sqlite::Database& w = db_.writer;
+  ImportOutcome out;
+  out.runs = static_cast<std::int64_t>(f.runs.size());
+  out.sweep_id = merge_sweep(w, f, own, now, importer, out.sweep_created);
+
+  RunMerger merger(w, own, f, now);
+  for (const ImportedRun& run : f.runs) {
+    const auto [job_id, merged] = merger.merge(run);
+    switch (merged) {
+      case Merged::added: ++out.added; break;
+      case Merged::filled: ++out.filled, out.filled_jobs.push_back(job_id); break;
+      case Merged::identical: ++out.identical; break;
+      case Merged::conflict: ++out.conflicts; break;
+      case Merged::conflict_known: ++out.conflicts_known; break;
+    }
+    if (merged == Merged::added || merged == Merged::filled) staging.keep.insert(run.staged_folder);
+    if (merger.link(out.sweep_id, job_id, run.position)) ++out.linked;
     if (run.human_label &&
         LabelStore::import_label(w, job_id, *run.human_label,
                                  "imported from database " + f.source_database, importer, now)) {
