@@ -189,103 +189,142 @@ async function loadPhis(chosen) {
   return { phi, phis: [...phis].sort((a, b) => a - b) };
 }
 
-export function mount(root, params) {
-  const state = {
-    phi: params.phi ? Number(params.phi) : null,
-    reading: READINGS[params.speed] ? params.speed : 'fit',
-    points: [], sig: '',
-  };
-  let alive = true, timer = null, drawn = [], plot = null;
+// The page: its choices and data (state, from the query first), its boxes (el), what the last
+// render drew (plot, drawn) and its timer. Every part below takes it explicitly.
+function createPage(root, params) {
   root.innerHTML = pageHtml();
   const $ = (x) => root.querySelector(`#${x}`);
-  const tooltip = document.getElementById('tooltip');
+  return {
+    state: {
+      phi: params.phi ? Number(params.phi) : null,
+      reading: READINGS[params.speed] ? params.speed : 'fit',
+      points: [], sig: '',
+      model: null, // the engine's predictions at phi, from the phase map's answer
+    },
+    el: {
+      plotBox: $('bands-plot'), summary: $('bands-summary'), leftOff: $('bands-left-off'), legend: $('bands-legend'),
+      phi: $('bands-phi'), reading: $('bands-reading'), readingNote: $('bands-reading-note'),
+    },
+    tooltip: document.getElementById('tooltip'),
+    plot: null,
+    drawn: [], // the plotted bands with their canvas positions (x, y)
+    alive: true,
+    timer: null, // the next poll
+  };
+}
 
-  function render() {
-    const { shown, leftOff } = splitRuns(state.points, state.reading);
-    const box = $('bands-plot');
-    box.replaceChildren();
-    const width = Math.max(560, Math.min(1100, box.clientWidth || 760));
-    const c0 = state.model?.nonreflecting_band_speed;
-    const xs = shown.map((d) => stressRatio(d.p.S, d.p.R));
-    const ys = shown.flatMap((d) => (d.e === null ? [d.v] : [d.v, d.v + d.e, d.v - d.e])).concat(c0 > 0 ? [c0] : []);
-    plot = new Plot(box, {
-      width, height: Math.round(Math.min(width * 0.62, Math.max(460, window.innerHeight - 260))), canvas: true, margin: { l: 78, r: 24, t: 18, b: 60 }, title: 'band speed',
-      x: { kind: 'log', domain: logExtent(xs, [1e-2, 1e3]), label: 'q_{y} / (ρV^{2}) = R / S^{2}' },
-      y: { kind: 'log', domain: logExtent(ys, [0.5, 50]), label: `band speed c_{b} / V (${READINGS[state.reading].name})` },
-    });
-    drawNonReflecting(plot, c0);
-    drawn = shown.map((d, i) => ({ ...d, xv: xs[i], x: plot.cx(xs[i]), y: plot.cy(d.v) }));
-    drawErrorBars(plot, drawn);
-    const counts = drawMarkers(plot, drawn);
-    if (!shown.length) {
-      svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2 + 30, 'text-anchor': 'middle', class: 'empty-note' }, plot.front)
-        .textContent = `No band with a band speed at φ = ${state.phi} yet.`;
-    }
-    plot.canvas.dataset.count = String(drawn.length);
-    wireCanvas();
-    renderLegend($('bands-legend'), counts);
-    renderSummary($('bands-summary'), $('bands-left-off'), state.phi, state.points.length, shown, leftOff);
-    // For the browser tests: what was drawn and the y axis it was drawn on.
-    const hook = (window.__dashboard ||= { renders: [] });
-    hook.bands = { phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1], plotted: drawn.map((d) => ({ job_id: d.p.job_id, x: d.x, y: d.y, shape: markerShape(d.p) })) };
+// A new plot in the box, replacing the last: c_b/V of the bands (with their bars and the
+// non-reflecting speed c0) against R/S^2 (xs), on log axes spanning them.
+function newPlot(box, reading, shown, xs, c0) {
+  box.replaceChildren();
+  const width = Math.max(560, Math.min(1100, box.clientWidth || 760));
+  const ys = shown.flatMap((d) => (d.e === null ? [d.v] : [d.v, d.v + d.e, d.v - d.e])).concat(c0 > 0 ? [c0] : []);
+  return new Plot(box, {
+    width, height: Math.round(Math.min(width * 0.62, Math.max(460, window.innerHeight - 260))), canvas: true, margin: { l: 78, r: 24, t: 18, b: 60 }, title: 'band speed',
+    x: { kind: 'log', domain: logExtent(xs, [1e-2, 1e3]), label: 'q_{y} / (ρV^{2}) = R / S^{2}' },
+    y: { kind: 'log', domain: logExtent(ys, [0.5, 50]), label: `band speed c_{b} / V (${READINGS[reading].name})` },
+  });
+}
+
+// The plot of the bands at phi, the legend and the runs left off; keeps what it drew for the mouse.
+function render(page) {
+  const { state, el } = page;
+  const { shown, leftOff } = splitRuns(state.points, state.reading);
+  const c0 = state.model?.nonreflecting_band_speed;
+  const xs = shown.map((d) => stressRatio(d.p.S, d.p.R));
+  const plot = (page.plot = newPlot(el.plotBox, state.reading, shown, xs, c0));
+  drawNonReflecting(plot, c0);
+  const drawn = (page.drawn = shown.map((d, i) => ({ ...d, xv: xs[i], x: plot.cx(xs[i]), y: plot.cy(d.v) })));
+  drawErrorBars(plot, drawn);
+  const counts = drawMarkers(plot, drawn);
+  if (!shown.length) {
+    svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2 + 30, 'text-anchor': 'middle', class: 'empty-note' }, plot.front)
+      .textContent = `No band with a band speed at φ = ${state.phi} yet.`;
   }
+  plot.canvas.dataset.count = String(drawn.length);
+  wireCanvas(page, plot);
+  renderLegend(el.legend, counts);
+  renderSummary(el.summary, el.leftOff, state.phi, state.points.length, shown, leftOff);
+  // For the browser tests: what was drawn and the y axis it was drawn on.
+  const hook = (window.__dashboard ||= { renders: [] });
+  hook.bands = { phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1], plotted: drawn.map((d) => ({ job_id: d.p.job_id, x: d.x, y: d.y, shape: markerShape(d.p) })) };
+}
 
-  function wireCanvas() {
-    plot.canvas.addEventListener('mousemove', onMove);
-    plot.canvas.addEventListener('mouseleave', () => { tooltip.hidden = true; });
-    plot.canvas.addEventListener('click', (ev) => { const d = nearest(ev); if (d) location.hash = `#/run/${d.p.job_id}`; });
-  }
+// Hover and click on a new canvas; the handlers read the page's last render when they run.
+function wireCanvas(page, plot) {
+  plot.canvas.addEventListener('mousemove', (ev) => onMove(page, ev));
+  plot.canvas.addEventListener('mouseleave', () => { page.tooltip.hidden = true; });
+  plot.canvas.addEventListener('click', (ev) => { const d = nearest(page, ev); if (d) location.hash = `#/run/${d.p.job_id}`; });
+}
 
-  function nearest(ev) {
-    const r = plot.canvas.getBoundingClientRect();
-    const mx = ev.clientX - r.left, my = ev.clientY - r.top;
-    let best = null, bd = 12 * 12;
-    for (const d of drawn) { const q = (d.x - mx) ** 2 + (d.y - my) ** 2; if (q < bd) { bd = q; best = d; } }
-    return best;
-  }
+// The plotted band within 12 px of the mouse, the nearest; null: none.
+function nearest(page, ev) {
+  const r = page.plot.canvas.getBoundingClientRect();
+  const mx = ev.clientX - r.left, my = ev.clientY - r.top;
+  let best = null, bd = 12 * 12;
+  for (const d of page.drawn) { const q = (d.x - mx) ** 2 + (d.y - my) ** 2; if (q < bd) { bd = q; best = d; } }
+  return best;
+}
 
-  function onMove(ev) {
-    const d = nearest(ev);
-    if (!d) { tooltip.hidden = true; plot.canvas.style.cursor = ''; return; }
-    plot.canvas.style.cursor = 'pointer';
-    tooltip.innerHTML = tooltipHtml(d.p);
-    tooltip.hidden = false;
-    tooltip.style.left = `${ev.clientX + 16 + window.scrollX}px`;
-    tooltip.style.top = `${ev.clientY + 14 + window.scrollY}px`;
-  }
+function onMove(page, ev) {
+  const { plot, tooltip } = page;
+  const d = nearest(page, ev);
+  if (!d) { tooltip.hidden = true; plot.canvas.style.cursor = ''; return; }
+  plot.canvas.style.cursor = 'pointer';
+  tooltip.innerHTML = tooltipHtml(d.p);
+  tooltip.hidden = false;
+  tooltip.style.left = `${ev.clientX + 16 + window.scrollX}px`;
+  tooltip.style.top = `${ev.clientY + 14 + window.scrollY}px`;
+}
 
-  async function poll() {
-    clearTimeout(timer);
-    if (!alive) return;
-    try {
-      const data = await api.phaseMap(state.phi);
-      const sig = JSON.stringify(data.points);
-      if (alive && sig !== state.sig) { state.sig = sig; state.points = data.points; state.model = data.model; render(); }
-    } catch (e) { $('bands-summary').textContent = `offline: ${e.message}`; }
-    if (alive) timer = setTimeout(poll, POLL_MS);
-  }
+// Reads /phase-map at phi and redraws when its points changed.
+async function poll(page) {
+  clearTimeout(page.timer);
+  if (!page.alive) return;
+  const { state } = page;
+  try {
+    const data = await api.phaseMap(state.phi);
+    const sig = JSON.stringify(data.points);
+    if (page.alive && sig !== state.sig) { state.sig = sig; state.points = data.points; state.model = data.model; render(page); }
+  } catch (e) { page.el.summary.textContent = `offline: ${e.message}`; }
+  if (page.alive) page.timer = setTimeout(() => poll(page), POLL_MS);
+}
 
-  function syncUrl() {
-    setParams({ phi: state.phi, speed: state.reading === 'fit' ? '' : state.reading });
-  }
+function syncUrl(state) {
+  setParams({ phi: state.phi, speed: state.reading === 'fit' ? '' : state.reading });
+}
 
-  function wireControls() {
-    const phiSel = $('bands-phi'), readingSel = $('bands-reading');
-    const note = () => { $('bands-reading-note').textContent = READINGS[state.reading].note; };
-    readingSel.value = state.reading;
-    note();
-    phiSel.addEventListener('change', () => { state.phi = Number(phiSel.value); state.sig = ''; syncUrl(); poll(); });
-    readingSel.addEventListener('change', () => { state.reading = readingSel.value; note(); syncUrl(); render(); });
-  }
+// The controls start from the query and write back to it: another phi is another answer of the
+// server (read now), another reading redraws what the page has.
+function wireControls(page) {
+  const { state, el } = page;
+  const note = () => { el.readingNote.textContent = READINGS[state.reading].note; };
+  el.reading.value = state.reading;
+  note();
+  el.phi.addEventListener('change', () => { state.phi = Number(el.phi.value); state.sig = ''; syncUrl(state); poll(page); });
+  el.reading.addEventListener('change', () => { state.reading = el.reading.value; note(); syncUrl(state); render(page); });
+}
 
-  (async () => {
-    const { phi, phis } = await loadPhis(state.phi);
-    if (!alive) return;
-    state.phi = phi;
-    $('bands-phi').replaceChildren(...phis.map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
-    wireControls();
-    render();
-    poll();
-  })();
-  return () => { alive = false; clearTimeout(timer); tooltip.hidden = true; };
+// The phis of the sweeps fill the control; then the controls, the first render and the polling.
+async function start(page) {
+  const { state, el } = page;
+  const { phi, phis } = await loadPhis(state.phi);
+  if (!page.alive) return;
+  state.phi = phi;
+  el.phi.replaceChildren(...phis.map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
+  wireControls(page);
+  render(page);
+  poll(page);
+}
+
+function stop(page) {
+  page.alive = false;
+  clearTimeout(page.timer);
+  page.tooltip.hidden = true;
+}
+
+export function mount(root, params) {
+  const page = createPage(root, params);
+  start(page);
+  return () => stop(page);
 }

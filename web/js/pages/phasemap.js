@@ -249,283 +249,355 @@ function publishRender(root, phi, ms, plot, { drawn, positions, counts, radius, 
   root.dispatchEvent(new CustomEvent('phasemap:rendered', { bubbles: true, detail: { ms, count: drawn.length } }));
 }
 
-export function mount(root, params) {
-  const state = {
-    phi: params.phi ? Number(params.phi) : null,
-    cpu: params.cpu || 'all',
-    sweep: params.sweep || '',
-    buckling: params.buckling !== '0',
-    regions: params.regions !== '0',
-    points: [], signature: '', answer: null, presets: [], sweeps: [], updated: null, error: null,
-    // The last /phase-map/regions answer, the filters it is for, and what it was read from.
-    regionData: null, regionFor: '', regionKey: '',
-  };
+// The page: its filters and data (state, the query's keys first), its controls and boxes (el),
+// what the last render drew (shown) and its timers. Every part below takes it explicitly.
+function createPage(root, params) {
   root.innerHTML = pageHtml();
   const $ = (id) => root.querySelector(`#${id}`);
-  const plotBox = $('map-plot');
-  const phiSel = $('map-phi'), cpuSel = $('map-cpu'), sweepSel = $('map-sweep'), buck = $('map-buckling'), regionsBox = $('map-regions');
-  buck.checked = state.buckling;
-  regionsBox.checked = state.regions;
-  const tooltip = document.getElementById('tooltip');
-  let positions = null; // Float32Array [x, y] per drawn point (canvas pixels)
-  let drawn = [];
-  let plot = null;
-  let figure = null; // what the last render drew, for the export
-  let shownRegions = null;
-  let timer = null;
-  let alive = true;
+  return {
+    root,
+    state: {
+      phi: params.phi ? Number(params.phi) : null,
+      cpu: params.cpu || 'all',
+      sweep: params.sweep || '',
+      buckling: params.buckling !== '0',
+      regions: params.regions !== '0',
+      points: [], signature: '', answer: null, presets: [], sweeps: [], updated: null, error: null,
+      // The last /phase-map/regions answer, the filters it is for, and what it was read from.
+      regionData: null, regionFor: '', regionKey: '',
+    },
+    el: {
+      plotBox: $('map-plot'), summary: $('map-summary'), live: $('map-live'),
+      phi: $('map-phi'), cpu: $('map-cpu'), sweep: $('map-sweep'), buckling: $('map-buckling'), regions: $('map-regions'),
+      exportSvg: $('map-export-svg'), exportPng: $('map-export-png'), legend: $('map-legend'), keys: $('map-keys'),
+    },
+    tooltip: document.getElementById('tooltip'),
+    // What the last render drew: the plot, the points in draw order with their canvas positions
+    // (Float32Array [x, y] per point), the regions shown and the figure for the export.
+    shown: { plot: null, drawn: [], positions: null, regions: null, figure: null },
+    alive: true,
+    timer: null, // the next poll
+    resizeTimer: null, // the redraw a moment after the last resize
+    onResize: null,
+  };
+}
 
-  function syncUrl() {
-    setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0' });
+function syncUrl(state) {
+  setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0' });
+}
+
+// The phis of every sweep and the chosen one (without one: the newest sweep's first, else 0.4).
+function fillPhiOptions(state, select) {
+  const phis = new Set();
+  for (const s of state.sweeps) for (const p of s.phis || []) phis.add(Number(p.toPrecision(12)));
+  if (state.phi === null) {
+    const newest = state.sweeps[0]?.phis?.[0];
+    state.phi = Number.isFinite(newest) ? newest : 0.4;
   }
+  phis.add(state.phi);
+  const sorted = [...phis].sort((a, b) => a - b);
+  select.replaceChildren(...sorted.map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
+}
 
-  function fillPhiOptions() {
-    const phis = new Set();
-    for (const s of state.sweeps) for (const p of s.phis || []) phis.add(Number(p.toPrecision(12)));
-    if (state.phi === null) {
-      const newest = state.sweeps[0]?.phis?.[0];
-      state.phi = Number.isFinite(newest) ? newest : 0.4;
-    }
-    phis.add(state.phi);
-    const sorted = [...phis].sort((a, b) => a - b);
-    phiSel.replaceChildren(...sorted.map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
+function fillSweepOptions(state, select) {
+  const keep = state.sweep;
+  select.replaceChildren(new Option('all sweeps', ''), ...state.sweeps.map((s) => new Option(`#${s.id} ${s.name}`, s.id)));
+  select.value = keep;
+}
+
+// A grid as its cells per unit cell and across a strut, with the preset's name when a preset
+// gives it: the fewest cells per unit cell that reach the preset's cells across the strut, so
+// the grid's own count is at most one strut's share of a cell above the preset's.
+function presetName(state, cpu) {
+  const pt = state.points.find((x) => x.cells_per_unit === cpu);
+  const cps = pt ? pt.cells_per_strut : null;
+  const share = cps ? cps / cpu : 0;
+  const p = cps ? state.presets.find((x) => cps >= x.cells_per_strut - 1e-9 && cps - share < x.cells_per_strut - 1e-9) : null;
+  const what = cps ? `${cpu} cells/unit, ${cps.toFixed(1)} across a strut` : `${cpu} cells/unit`;
+  return p ? `${p.name} (${what})` : what;
+}
+
+// The grids of the points, and the chosen one even when no point has it.
+function fillCpuOptions(state, select) {
+  const cpus = [...new Set(state.points.map((p) => p.cells_per_unit))].sort((a, b) => a - b);
+  const keep = state.cpu;
+  select.replaceChildren(new Option('all resolutions', 'all'), ...cpus.map((c) => new Option(presetName(state, c), String(c))));
+  if (keep !== 'all' && !cpus.includes(Number(keep))) select.append(new Option(presetName(state, Number(keep)), keep));
+  select.value = keep;
+}
+
+function visiblePoints(state) {
+  return state.cpu === 'all' ? state.points : state.points.filter((p) => String(p.cells_per_unit) === String(state.cpu));
+}
+
+const regionFilters = (state) => JSON.stringify([state.phi, state.sweep, state.cpu]);
+
+// What the regions answer depends on: the filters, the labelled runs and the box's extent.
+function regionKey(state) {
+  let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+  const labels = [];
+  for (const p of visiblePoints(state)) {
+    lo = [Math.min(lo[0], p.S), Math.min(lo[1], p.R)]; hi = [Math.max(hi[0], p.S), Math.max(hi[1], p.R)];
+    if (p.class) labels.push([p.job_id, p.state, p.status, p.class, p.confidence, p.runner_up]);
   }
+  return JSON.stringify([regionFilters(state), lo, hi, labels]);
+}
 
-  function fillSweepOptions() {
-    const keep = state.sweep;
-    sweepSel.replaceChildren(new Option('all sweeps', ''), ...state.sweeps.map((s) => new Option(`#${s.id} ${s.name}`, s.id)));
-    sweepSel.value = keep;
+// Reads the regions when what they depend on changed (not at every progress heartbeat).
+async function loadRegions(page) {
+  const { state } = page;
+  if (!state.regions) return;
+  const key = regionKey(state);
+  if (key === state.regionKey) return;
+  try {
+    const data = await api.regions(state.phi, state.sweep, state.cpu === 'all' ? '' : state.cpu);
+    if (!page.alive || key !== regionKey(state)) return; // the filters changed meanwhile
+    state.regionKey = key;
+    state.regionFor = regionFilters(state);
+    state.regionData = data;
+    render(page);
+  } catch (e) {
+    state.regionData = null; // no background; the map itself still shows
+    page.el.live.title = `predicted regions: ${e.message}`;
   }
+}
 
-  // A grid as its cells per unit cell and across a strut, with the preset's name when a preset
-  // gives it: the fewest cells per unit cell that reach the preset's cells across the strut, so
-  // the grid's own count is at most one strut's share of a cell above the preset's.
-  function presetName(cpu) {
-    const pt = state.points.find((x) => x.cells_per_unit === cpu);
-    const cps = pt ? pt.cells_per_strut : null;
-    const share = cps ? cps / cpu : 0;
-    const p = cps ? state.presets.find((x) => cps >= x.cells_per_strut - 1e-9 && cps - share < x.cells_per_strut - 1e-9) : null;
-    const what = cps ? `${cpu} cells/unit, ${cps.toFixed(1)} across a strut` : `${cpu} cells/unit`;
-    return p ? `${p.name} (${what})` : what;
+// The figure's size for the page's width and the window's height.
+function figureSize(plotBox) {
+  const width = Math.max(560, Math.min(1100, plotBox.clientWidth || 760));
+  return { width, height: Math.round(Math.min(width * 0.68, Math.max(480, window.innerHeight - 250))) };
+}
+
+// A new plot in the box, replacing the last: log S against log R, each axis spanning the points
+// with room for their markers at its ends.
+function newPlot(plotBox, phi, pts) {
+  const { width, height } = figureSize(plotBox);
+  const margin = { l: 78, r: 24, t: 18, b: 60 };
+  const r = markerRadius(pts.length);
+  const xDom = fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
+  const yDom = fitMarkers(logExtent(pts.map((p) => p.R), [1e-6, 1]), pts.map((p) => p.R), height - margin.t - margin.b, r);
+  plotBox.replaceChildren();
+  return new Plot(plotBox, {
+    width, height, canvas: true, title: `phase map at phi = ${phi}`,
+    margin,
+    x: { kind: 'log', domain: xDom, label: 'Mach number S = V / √(E/ρ)' },
+    y: { kind: 'log', domain: yDom, label: 'relative strength R = q_{y} / E' },
+  });
+}
+
+// The note in an empty plot: why nothing shows.
+function drawEmptyNote(plot, state) {
+  const t = svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2, 'text-anchor': 'middle', class: 'empty-note' }, plot.front);
+  t.textContent = state.error ? `could not load: ${state.error}` : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;
+}
+
+// The map of the visible points (the regions under the markers, the markers, the overlays), the
+// legend, keys and summary beside it; keeps what it drew for the mouse and the export.
+function render(page) {
+  const t0 = performance.now();
+  const { state, el, shown } = page;
+  const pts = visiblePoints(state);
+  const plot = (shown.plot = newPlot(el.plotBox, state.phi, pts));
+  // Until new regions arrive the last ones of the same filters stay (no flicker on updates).
+  const regionData = state.regions && pts.length && state.regionFor === regionFilters(state) ? state.regionData : null;
+  const drawnRegions = drawRegions(plot, regionData);
+  shown.regions = drawnRegions ? { ...drawnRegions, data: regionData } : null;
+  const marks = drawPoints(plot, pts);
+  shown.drawn = marks.drawn;
+  shown.positions = marks.positions;
+  if (state.buckling) drawBuckling(plot, state.answer?.model);
+  if (!pts.length) drawEmptyNote(plot, state);
+  plot.canvas.dataset.count = String(marks.drawn.length);
+  plot.canvas.dataset.counts = JSON.stringify(marks.counts);
+  wireCanvas(page, plot);
+  renderLegend(el.legend, marks.counts);
+  const keys = keyItems(shown.regions);
+  renderKeys(el.keys, keys);
+  el.summary.innerHTML = summaryHtml(marks.counts, pts.length, state.phi, marks.places);
+  shown.figure = figureOf(state, plot, marks, shown.regions, keys);
+  publishRender(page.root, state.phi, performance.now() - t0, plot, marks, shown.regions);
+}
+
+// What the export draws of a render: the plot, its markers and regions, the legend with counts
+// (the states only where some run has them) and the keys, a title and a note of the filters.
+function figureOf(state, plot, marks, regions, keys) {
+  return {
+    plot, markers: marks.markers, regions,
+    legend: [...Object.entries(CLASSES).map(([k, c]) => ({ cat: k, name: `${k} ${c.name}`, count: marks.counts[k] || 0 })),
+      ...Object.entries(STATES).filter(([k]) => marks.counts[k]).map(([k, s]) => ({ cat: k, name: s.name, count: marks.counts[k] })),
+      ...keys.map((k) => ({ cat: k.cat, fade: k.fade, ring: k.ring, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
+    title: `Phase map at phi = ${state.phi}`,
+    note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}`,
+      ...(regions ? [`regions from ${regions.data.runs} labelled runs`] : [])],
+  };
+}
+
+// Hover and click on a new canvas; the handlers read the page's last render when they run.
+function wireCanvas(page, plot) {
+  plot.canvas.addEventListener('mousemove', (ev) => onMove(page, ev));
+  plot.canvas.addEventListener('mouseleave', () => { page.tooltip.hidden = true; page.shown.plot.canvas.style.cursor = ''; });
+  plot.canvas.addEventListener('click', (ev) => onClick(page.shown, ev));
+}
+
+function exportName(state, ext) {
+  const parts = [`phase-map-phi${state.phi}`];
+  if (state.sweep) parts.push(`sweep${state.sweep}`);
+  if (state.cpu !== 'all') parts.push(`cpu${state.cpu}`);
+  return `${parts.join('-')}.${ext}`;
+}
+
+async function exportFigure(page, kind) {
+  const { figure } = page.shown;
+  if (!figure) return;
+  const svg = mapSvg(figure);
+  if (kind === 'svg') download(new Blob([svgText(svg)], { type: 'image/svg+xml' }), exportName(page.state, 'svg'));
+  else download(await pngBlob(svg), exportName(page.state, 'png'));
+}
+
+// The index of the drawn point within 14 px of the mouse, the topmost of the nearest; -1: none.
+function nearest(shown, ev) {
+  const { plot, drawn, positions } = shown;
+  if (!positions) return -1;
+  const rect = plot.canvas.getBoundingClientRect();
+  const mx = ev.clientX - rect.left, my = ev.clientY - rect.top;
+  let best = -1, bd = 14 * 14;
+  for (let i = drawn.length - 1; i >= 0; i--) { // topmost first
+    const dx = positions[2 * i] - mx, dy = positions[2 * i + 1] - my;
+    const d = dx * dx + dy * dy;
+    if (d < bd) { bd = d; best = i; }
   }
+  return best;
+}
 
-  function fillCpuOptions() {
-    const cpus = [...new Set(state.points.map((p) => p.cells_per_unit))].sort((a, b) => a - b);
-    const keep = state.cpu;
-    cpuSel.replaceChildren(new Option('all resolutions', 'all'), ...cpus.map((c) => new Option(presetName(c), String(c))));
-    if (keep !== 'all' && !cpus.includes(Number(keep))) cpuSel.append(new Option(presetName(Number(keep)), keep));
-    cpuSel.value = keep;
-  }
-
-  function visiblePoints() {
-    const pts = state.cpu === 'all' ? state.points : state.points.filter((p) => String(p.cells_per_unit) === String(state.cpu));
-    return pts;
-  }
-
-  const regionFilters = () => JSON.stringify([state.phi, state.sweep, state.cpu]);
-
-  // What the regions answer depends on: the filters, the labelled runs and the box's extent.
-  function regionKey() {
-    const pts = visiblePoints();
-    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
-    const labels = [];
-    for (const p of pts) {
-      lo = [Math.min(lo[0], p.S), Math.min(lo[1], p.R)]; hi = [Math.max(hi[0], p.S), Math.max(hi[1], p.R)];
-      if (p.class) labels.push([p.job_id, p.state, p.status, p.class, p.confidence, p.runner_up]);
-    }
-    return JSON.stringify([regionFilters(), lo, hi, labels]);
-  }
-
-  // Reads the regions when what they depend on changed (not at every progress heartbeat).
-  async function loadRegions() {
-    if (!state.regions) return;
-    const key = regionKey();
-    if (key === state.regionKey) return;
-    try {
-      const data = await api.regions(state.phi, state.sweep, state.cpu === 'all' ? '' : state.cpu);
-      if (!alive || key !== regionKey()) return; // the filters changed meanwhile
-      state.regionKey = key;
-      state.regionFor = regionFilters();
-      state.regionData = data;
-      render();
-    } catch (e) {
-      state.regionData = null; // no background; the map itself still shows
-      $('map-live').title = `predicted regions: ${e.message}`;
-    }
-  }
-
-  // The figure's size for the page's width and the window's height.
-  function figureSize() {
-    const width = Math.max(560, Math.min(1100, plotBox.clientWidth || 760));
-    return { width, height: Math.round(Math.min(width * 0.68, Math.max(480, window.innerHeight - 250))) };
-  }
-
-  function render() {
-    const t0 = performance.now();
-    const pts = visiblePoints();
-    const { width, height } = figureSize();
-    const margin = { l: 78, r: 24, t: 18, b: 60 };
-    const r = markerRadius(pts.length);
-    const xDom = fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
-    const yDom = fitMarkers(logExtent(pts.map((p) => p.R), [1e-6, 1]), pts.map((p) => p.R), height - margin.t - margin.b, r);
-    plotBox.replaceChildren();
-    plot = new Plot(plotBox, {
-      width, height, canvas: true, title: `phase map at phi = ${state.phi}`,
-      margin,
-      x: { kind: 'log', domain: xDom, label: 'Mach number S = V / √(E/ρ)' },
-      y: { kind: 'log', domain: yDom, label: 'relative strength R = q_{y} / E' },
-    });
-    // Until new regions arrive the last ones of the same filters stay (no flicker on updates).
-    const regionData = state.regions && pts.length && state.regionFor === regionFilters() ? state.regionData : null;
-    const drawnRegions = drawRegions(plot, regionData);
-    shownRegions = drawnRegions ? { ...drawnRegions, data: regionData } : null;
-    const marks = drawPoints(plot, pts);
-    ({ drawn, positions } = marks);
-    if (state.buckling) drawBuckling(plot, state.answer?.model);
-    if (!pts.length) {
-      const t = svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2, 'text-anchor': 'middle', class: 'empty-note' }, plot.front);
-      t.textContent = state.error ? `could not load: ${state.error}` : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;
-    }
-    plot.canvas.dataset.count = String(drawn.length);
-    plot.canvas.dataset.counts = JSON.stringify(marks.counts);
-    plot.canvas.addEventListener('mousemove', onMove);
-    plot.canvas.addEventListener('mouseleave', () => { tooltip.hidden = true; plot.canvas.style.cursor = ''; });
-    plot.canvas.addEventListener('click', onClick);
-    renderLegend($('map-legend'), marks.counts);
-    const keys = keyItems(shownRegions);
-    renderKeys($('map-keys'), keys);
-    $('map-summary').innerHTML = summaryHtml(marks.counts, pts.length, state.phi, marks.places);
-    figure = {
-      plot, markers: marks.markers, regions: shownRegions,
-      legend: [...Object.entries(CLASSES).map(([k, c]) => ({ cat: k, name: `${k} ${c.name}`, count: marks.counts[k] || 0 })),
-        ...Object.entries(STATES).filter(([k]) => marks.counts[k]).map(([k, s]) => ({ cat: k, name: s.name, count: marks.counts[k] })),
-        ...keys.map((k) => ({ cat: k.cat, fade: k.fade, ring: k.ring, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
-      title: `Phase map at phi = ${state.phi}`,
-      note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}`,
-        ...(shownRegions ? [`regions from ${shownRegions.data.runs} labelled runs`] : [])],
-    };
-    publishRender(root, state.phi, performance.now() - t0, plot, marks, shownRegions);
-  }
-
-  function exportName(ext) {
-    const parts = [`phase-map-phi${state.phi}`];
-    if (state.sweep) parts.push(`sweep${state.sweep}`);
-    if (state.cpu !== 'all') parts.push(`cpu${state.cpu}`);
-    return `${parts.join('-')}.${ext}`;
-  }
-
-  async function exportFigure(kind) {
-    if (!figure) return;
-    const svg = mapSvg(figure);
-    if (kind === 'svg') download(new Blob([svgText(svg)], { type: 'image/svg+xml' }), exportName('svg'));
-    else download(await pngBlob(svg), exportName('png'));
-  }
-
-  function nearest(ev) {
-    if (!positions) return -1;
+// The tooltip of the run under the mouse, else of the predicted region there, else none.
+function onMove(page, ev) {
+  const { shown, tooltip } = page;
+  const { plot } = shown;
+  const i = nearest(shown, ev);
+  if (i < 0) {
+    plot.canvas.style.cursor = '';
     const rect = plot.canvas.getBoundingClientRect();
-    const mx = ev.clientX - rect.left, my = ev.clientY - rect.top;
-    let best = -1, bd = 14 * 14;
-    for (let i = drawn.length - 1; i >= 0; i--) { // topmost first
-      const dx = positions[2 * i] - mx, dy = positions[2 * i + 1] - my;
-      const d = dx * dx + dy * dy;
-      if (d < bd) { bd = d; best = i; }
-    }
-    return best;
-  }
-
-  function onMove(ev) {
-    const i = nearest(ev);
-    if (i < 0) {
-      plot.canvas.style.cursor = '';
-      const rect = plot.canvas.getBoundingClientRect();
-      const cell = shownRegions && cellAt(plot, shownRegions.data, ev.clientX - rect.left, ev.clientY - rect.top);
-      if (!cell) { tooltip.hidden = true; return; }
-      tooltip.innerHTML = regionTipHtml(cell);
-      placeTooltip(tooltip, ev);
-      return;
-    }
-    plot.canvas.style.cursor = 'pointer';
-    const { p, cat } = drawn[i];
-    tooltip.innerHTML = tooltipHtml(p, cat, presetName(p.cells_per_unit));
+    const cell = shown.regions && cellAt(plot, shown.regions.data, ev.clientX - rect.left, ev.clientY - rect.top);
+    if (!cell) { tooltip.hidden = true; return; }
+    tooltip.innerHTML = regionTipHtml(cell);
     placeTooltip(tooltip, ev);
+    return;
   }
+  plot.canvas.style.cursor = 'pointer';
+  const { p, cat } = shown.drawn[i];
+  tooltip.innerHTML = tooltipHtml(p, cat, presetName(page.state, p.cells_per_unit));
+  placeTooltip(tooltip, ev);
+}
 
-  function onClick(ev) {
-    const i = nearest(ev);
-    if (i >= 0) location.hash = `#/run/${drawn[i].p.job_id}`;
+function onClick(shown, ev) {
+  const i = nearest(shown, ev);
+  if (i >= 0) location.hash = `#/run/${shown.drawn[i].p.job_id}`;
+}
+
+function showLive(live, state) {
+  live.innerHTML = `<span class="pulse"></span>live · updated ${state.updated.toLocaleTimeString()}`;
+  live.className = 'live';
+}
+
+function showOffline(live, state) {
+  live.textContent = `offline: ${state.error}; retrying`;
+  live.className = 'live off';
+}
+
+// Takes a /phase-map answer; redraws (with the numerics' options) only when its points changed.
+function takeAnswer(page, data) {
+  const { state } = page;
+  state.error = null;
+  state.updated = new Date();
+  // An unchanged map comes back as the same object (a 304 to If-None-Match).
+  const sig = data === state.answer ? state.signature : JSON.stringify(data.points);
+  state.answer = data;
+  if (sig !== state.signature) {
+    state.signature = sig;
+    state.points = data.points;
+    fillCpuOptions(state, page.el.cpu);
+    render(page);
   }
+}
 
-  function showLive() {
-    $('map-live').innerHTML = `<span class="pulse"></span>live · updated ${state.updated.toLocaleTimeString()}`;
-    $('map-live').className = 'live';
-  }
-
-  function showOffline() {
-    $('map-live').textContent = `offline: ${state.error}; retrying`;
-    $('map-live').className = 'live off';
-  }
-
-  // Reads /phase-map while the tab is visible and redraws only when the answer changed.
-  async function poll() {
-    if (!alive) return;
-    clearTimeout(timer);
-    if (!document.hidden) {
-      try {
-        const data = await api.phaseMap(state.phi, state.sweep);
-        if (!alive) return;
-        state.error = null;
-        state.updated = new Date();
-        // An unchanged map comes back as the same object (a 304 to If-None-Match).
-        const sig = data === state.answer ? state.signature : JSON.stringify(data.points);
-        state.answer = data;
-        if (sig !== state.signature) {
-          state.signature = sig;
-          state.points = data.points;
-          fillCpuOptions();
-          render();
-        }
-        showLive();
-        await loadRegions();
-      } catch (e) {
-        state.error = e.message;
-        showOffline();
-      }
+// Reads /phase-map while the tab is visible and redraws only when the answer changed.
+async function poll(page) {
+  if (!page.alive) return;
+  clearTimeout(page.timer);
+  if (!document.hidden) {
+    const { state, el } = page;
+    try {
+      const data = await api.phaseMap(state.phi, state.sweep);
+      if (!page.alive) return;
+      takeAnswer(page, data);
+      showLive(el.live, state);
+      await loadRegions(page);
+    } catch (e) {
+      state.error = e.message;
+      showOffline(el.live, state);
     }
-    if (alive) timer = setTimeout(poll, POLL_MS);
   }
+  if (page.alive) page.timer = setTimeout(() => poll(page), POLL_MS);
+}
 
-  phiSel.addEventListener('change', () => { state.phi = Number(phiSel.value); state.signature = ''; state.answer = null; syncUrl(); poll(); });
-  cpuSel.addEventListener('change', () => { state.cpu = cpuSel.value; syncUrl(); render(); loadRegions(); });
-  sweepSel.addEventListener('change', () => { state.sweep = sweepSel.value; state.signature = ''; state.answer = null; syncUrl(); poll(); });
-  buck.addEventListener('change', () => { state.buckling = buck.checked; syncUrl(); render(); });
-  regionsBox.addEventListener('change', () => { state.regions = regionsBox.checked; syncUrl(); render(); loadRegions(); });
-  $('map-export-svg').addEventListener('click', () => exportFigure('svg'));
-  $('map-export-png').addEventListener('click', () => exportFigure('png'));
-  // Redraws after a resize only when the figure's size or the canvas's pixel density changes
-  // (a zoom), not for every window event.
-  const onResize = () => {
-    clearTimeout(onResize.t);
-    onResize.t = setTimeout(() => {
-      if (!alive) return;
-      const { width, height } = figureSize();
+// The controls start from the query and write back to it. Another phi or sweep is another
+// answer of the server (read now); another grid or the overlays redraw what the page has.
+function wireControls(page) {
+  const { state, el } = page;
+  el.buckling.checked = state.buckling;
+  el.regions.checked = state.regions;
+  el.phi.addEventListener('change', () => { state.phi = Number(el.phi.value); state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
+  el.cpu.addEventListener('change', () => { state.cpu = el.cpu.value; syncUrl(state); render(page); loadRegions(page); });
+  el.sweep.addEventListener('change', () => { state.sweep = el.sweep.value; state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
+  el.buckling.addEventListener('change', () => { state.buckling = el.buckling.checked; syncUrl(state); render(page); });
+  el.regions.addEventListener('change', () => { state.regions = el.regions.checked; syncUrl(state); render(page); loadRegions(page); });
+  el.exportSvg.addEventListener('click', () => exportFigure(page, 'svg'));
+  el.exportPng.addEventListener('click', () => exportFigure(page, 'png'));
+}
+
+// Redraws after a resize only when the figure's size or the canvas's pixel density changes
+// (a zoom), not for every window event.
+function watchResize(page) {
+  page.onResize = () => {
+    clearTimeout(page.resizeTimer);
+    page.resizeTimer = setTimeout(() => {
+      if (!page.alive) return;
+      const { plot } = page.shown;
+      const { width, height } = figureSize(page.el.plotBox);
       const dpr = window.devicePixelRatio || 1;
-      if (!plot || width !== plot.opts.width || height !== plot.opts.height || plot.canvas.width !== Math.round(plot.pw * dpr)) render();
+      if (!plot || width !== plot.opts.width || height !== plot.opts.height || plot.canvas.width !== Math.round(plot.pw * dpr)) render(page);
     }, 150);
   };
-  window.addEventListener('resize', onResize);
+  window.addEventListener('resize', page.onResize);
+}
 
-  (async () => {
-    const [sw, pr] = await Promise.allSettled([api.sweeps(1000), api.presets()]);
-    if (!alive) return;
-    state.sweeps = sw.status === 'fulfilled' ? sw.value.sweeps : [];
-    state.presets = pr.status === 'fulfilled' ? pr.value.presets : [];
-    fillPhiOptions();
-    fillSweepOptions();
-    fillCpuOptions();
-    render();
-    poll();
-  })();
+// The sweeps (their phis and names) and the presets (the grids' names) fill the controls; then
+// the first render and the polling.
+async function start(page) {
+  const [sw, pr] = await Promise.allSettled([api.sweeps(1000), api.presets()]);
+  if (!page.alive) return;
+  const { state, el } = page;
+  state.sweeps = sw.status === 'fulfilled' ? sw.value.sweeps : [];
+  state.presets = pr.status === 'fulfilled' ? pr.value.presets : [];
+  fillPhiOptions(state, el.phi);
+  fillSweepOptions(state, el.sweep);
+  fillCpuOptions(state, el.cpu);
+  render(page);
+  poll(page);
+}
 
-  return () => { alive = false; clearTimeout(timer); clearTimeout(onResize.t); window.removeEventListener('resize', onResize); tooltip.hidden = true; };
+function stop(page) {
+  page.alive = false;
+  clearTimeout(page.timer);
+  clearTimeout(page.resizeTimer);
+  window.removeEventListener('resize', page.onResize);
+  page.tooltip.hidden = true;
+}
+
+export function mount(root, params) {
+  const page = createPage(root, params);
+  wireControls(page);
+  watchResize(page);
+  start(page);
+  return () => stop(page);
 }

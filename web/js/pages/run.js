@@ -41,114 +41,145 @@ function pageHtml(id) {
     </div>`;
 }
 
-export function mount(root, params) {
-  const id = params.id;
-  let alive = true, timer = null, shownState = null, stopMovie = () => {};
+// The page: the run's id, its boxes (el), whether it is still shown, the next poll, the state
+// whose artifacts are drawn and the stop of the movie playing. Every part below takes it.
+function createPage(root, id) {
   root.innerHTML = pageHtml(id);
   const $ = (x) => root.querySelector(`#${x}`);
+  return {
+    id,
+    el: {
+      title: $('run-title'), sub: $('run-sub'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
+      classBox: $('class-box'), label: $('label-box'), params: $('params-box'), state: $('state-box'), files: $('files-box'),
+    },
+    alive: true,
+    timer: null, // the next load while the run is queued or running
+    shownState: null, // the job's state when its artifacts were last drawn
+    stopMovie: () => {},
+  };
+}
 
-  async function load() {
-    clearTimeout(timer);
-    if (!alive) return;
-    let job;
+// Reads the job and shows it; its artifacts once it has a result or has finished, and again
+// when its state changes; again in a moment until it finishes.
+async function load(page) {
+  const { id, el } = page;
+  clearTimeout(page.timer);
+  if (!page.alive) return;
+  let job;
+  try {
+    job = await api.job(id);
+  } catch (e) {
+    el.sub.textContent = e.status === 404 ? `There is no run ${id}.` : `Could not load run ${id}: ${e.message}`;
+    if (e.status !== 404 && page.alive) page.timer = setTimeout(() => load(page), POLL_MS * 2);
+    return;
+  }
+  if (!page.alive) return;
+  renderHead(el, job);
+  el.state.innerHTML = stateHtml(job);
+  el.params.innerHTML = paramsHtml(job);
+  el.classBox.innerHTML = classHtml(job.result);
+  showRelabel(el.label, job, () => load(page));
+  const finished = ['succeeded', 'failed', 'cancelled'].includes(job.state);
+  if (job.state !== page.shownState && (job.result || finished)) {
+    page.shownState = job.state;
+    await renderArtifacts(page, job);
+  }
+  if (!finished && page.alive) page.timer = setTimeout(() => load(page), POLL_MS);
+}
+
+// The title with the run's class or state, the line of its parameters, and the window's title.
+function renderHead(el, job) {
+  const p = { ...job, class: job.result?.class ?? null, status: job.result?.status ?? null };
+  const cat = category(p);
+  const lk = look(cat);
+  const badge = CLASSES[cat]
+    ? `<span class="badge cls" style="--c:${lk.color};color:${inkOn(lk.color)}">${escapeHtml(label(cat))}</span>`
+    : `<span class="badge state-${cat}">${escapeHtml(lk.name)}</span>`;
+  el.title.innerHTML = `Run ${job.id} ${badge}`;
+  const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
+  el.sub.innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell (${Number(job.cells_per_strut).toFixed(1)} across a strut)${progress}`;
+  document.title = `run ${job.id} · compaction-sweep`;
+}
+
+// The downloads, then the figures in turn: the space-time map (its colour scale is the others'),
+// the plate stresses, the snapshot and the movie.
+async function renderArtifacts(page, job) {
+  const { id, el } = page;
+  let list = [];
+  try { list = (await api.artifacts(id)).artifacts; } catch { list = []; }
+  if (!page.alive) return;
+  const names = new Set(list.map((a) => a.name));
+  el.files.innerHTML = filesHtml(list, job, id);
+  const summary = job.result?.summary || {};
+  let frames = null;
+  if (names.has('frames.csv')) {
+    try { frames = parseCsv(await fetchArtifact(id, 'frames.csv', 'text')); } catch (e) { console.error(e); }
+  }
+  if (!page.alive) return;
+  const scale = { lut: colormap('inferno'), vmax: await renderSpacetime(page, names, summary, frames) };
+  if (!page.alive) return;
+  renderStress(el.stress, frames, summary, id);
+  await renderSnapshot(el.snapshot, list, summary, scale, id);
+  if (!page.alive) return;
+  await renderMovie(page, names, summary, scale);
+}
+
+// The movie of movie.bin with the colour scale of the space-time map (its own without one).
+async function renderMovie(page, names, summary, scale) {
+  const { id } = page;
+  const box = page.el.movie;
+  page.stopMovie();
+  if (!names.has('movie.bin')) {
+    const every = summary.params?.movie_d_eps;
+    box.innerHTML = `<p class="muted">No movie in this result${every === 0 ? ' (movie_d_eps = 0)' : every === undefined ? ' (written before movies existed)' : ''}.</p>`;
+    return;
+  }
+  try {
+    const movie = parseMovie(await fetchArtifact(id, 'movie.bin'));
+    if (!page.alive) return;
+    if (!movie.frames.length) { box.innerHTML = '<p class="muted">The movie has no frames: the run ended before its first.</p>'; return; }
+    const vmax = scale.vmax ?? levelScale(movie);
+    page.stopMovie = mountPlayer(box, movie, { vmax, lut: scale.lut, spacing: particleSpacing(summary) });
+    const cap = document.createElement('p');
+    cap.className = 'caption';
+    cap.innerHTML = `The particles every Δε = ${movie.header.dEps} of imposed strain, coloured by plastic strain rate over the last frame as the snapshot, on the colour scale of the space-time map${movie.header.flags & 1 ? ' (pseudo-1D: eight periods side by side)' : ''}; the line is the top plate. <a href="/api/v1/jobs/${id}/artifacts/movie.bin">movie.bin</a> (schema/movie-format.md)`;
+    box.append(cap);
+  } catch (e) {
+    console.error('movie.bin', e);
+    box.innerHTML = `<p class="muted">The movie could not be read: ${escapeHtml(e.message)}</p>`;
+  }
+}
+
+// The space-time map from spacetime.npy, else its picture, else a note; returns the top of its
+// colour scale (null without the table).
+async function renderSpacetime(page, names, summary, frames) {
+  const { id } = page;
+  const box = page.el.spacetime;
+  if (names.has('spacetime.npy')) {
     try {
-      job = await api.job(id);
-    } catch (e) {
-      $('run-sub').textContent = e.status === 404 ? `There is no run ${id}.` : `Could not load run ${id}: ${e.message}`;
-      if (e.status !== 404 && alive) timer = setTimeout(load, POLL_MS * 2);
-      return;
-    }
-    if (!alive) return;
-    renderHead(job);
-    $('state-box').innerHTML = stateHtml(job);
-    $('params-box').innerHTML = paramsHtml(job);
-    $('class-box').innerHTML = classHtml(job.result);
-    showRelabel($('label-box'), job, load);
-    const finished = ['succeeded', 'failed', 'cancelled'].includes(job.state);
-    if (job.state !== shownState && (job.result || finished)) {
-      shownState = job.state;
-      await renderArtifacts(job);
-    }
-    if (!finished && alive) timer = setTimeout(load, POLL_MS);
+      const npy = parseNpy(await fetchArtifact(id, 'spacetime.npy'));
+      if (!page.alive) return;
+      return drawSpacetime(box, npy, summary, frames, id);
+    } catch (e) { console.error('spacetime.npy', e); }
   }
-
-  function renderHead(job) {
-    const p = { ...job, class: job.result?.class ?? null, status: job.result?.status ?? null };
-    const cat = category(p);
-    const lk = look(cat);
-    const badge = CLASSES[cat]
-      ? `<span class="badge cls" style="--c:${lk.color};color:${inkOn(lk.color)}">${escapeHtml(label(cat))}</span>`
-      : `<span class="badge state-${cat}">${escapeHtml(lk.name)}</span>`;
-    $('run-title').innerHTML = `Run ${job.id} ${badge}`;
-    const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
-    $('run-sub').innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell (${Number(job.cells_per_strut).toFixed(1)} across a strut)${progress}`;
-    document.title = `run ${job.id} · compaction-sweep`;
+  if (names.has('spacetime.png')) {
+    box.innerHTML = `<img class="artifact-img" id="st-img" alt="space-time map" src="/api/v1/jobs/${id}/artifacts/spacetime.png">`;
+  } else {
+    box.innerHTML = '<p class="muted">no space-time map in this result</p>';
   }
+  return null;
+}
 
-  async function renderArtifacts(job) {
-    let list = [];
-    try { list = (await api.artifacts(id)).artifacts; } catch { list = []; }
-    if (!alive) return;
-    const names = new Set(list.map((a) => a.name));
-    $('files-box').innerHTML = filesHtml(list, job, id);
-    const summary = job.result?.summary || {};
-    let frames = null;
-    if (names.has('frames.csv')) {
-      try { frames = parseCsv(await fetchArtifact(id, 'frames.csv', 'text')); } catch (e) { console.error(e); }
-    }
-    if (!alive) return;
-    const scale = { lut: colormap('inferno'), vmax: await renderSpacetime(names, summary, frames) };
-    if (!alive) return;
-    renderStress($('stress-fig'), frames, summary, id);
-    await renderSnapshot($('snap-box'), list, summary, scale, id);
-    if (!alive) return;
-    await renderMovie(names, summary, scale);
-  }
+function stop(page) {
+  page.alive = false;
+  clearTimeout(page.timer);
+  page.stopMovie();
+}
 
-  // The movie of movie.bin with the colour scale of the space-time map (its own without one).
-  async function renderMovie(names, summary, scale) {
-    const box = $('movie-box');
-    stopMovie();
-    if (!names.has('movie.bin')) {
-      const every = summary.params?.movie_d_eps;
-      box.innerHTML = `<p class="muted">No movie in this result${every === 0 ? ' (movie_d_eps = 0)' : every === undefined ? ' (written before movies existed)' : ''}.</p>`;
-      return;
-    }
-    try {
-      const movie = parseMovie(await fetchArtifact(id, 'movie.bin'));
-      if (!alive) return;
-      if (!movie.frames.length) { box.innerHTML = '<p class="muted">The movie has no frames: the run ended before its first.</p>'; return; }
-      const vmax = scale.vmax ?? levelScale(movie);
-      stopMovie = mountPlayer(box, movie, { vmax, lut: scale.lut, spacing: particleSpacing(summary) });
-      const cap = document.createElement('p');
-      cap.className = 'caption';
-      cap.innerHTML = `The particles every Δε = ${movie.header.dEps} of imposed strain, coloured by plastic strain rate over the last frame as the snapshot, on the colour scale of the space-time map${movie.header.flags & 1 ? ' (pseudo-1D: eight periods side by side)' : ''}; the line is the top plate. <a href="/api/v1/jobs/${id}/artifacts/movie.bin">movie.bin</a> (schema/movie-format.md)`;
-      box.append(cap);
-    } catch (e) {
-      console.error('movie.bin', e);
-      box.innerHTML = `<p class="muted">The movie could not be read: ${escapeHtml(e.message)}</p>`;
-    }
-  }
-
-  async function renderSpacetime(names, summary, frames) {
-    const box = $('st-fig');
-    if (names.has('spacetime.npy')) {
-      try {
-        const npy = parseNpy(await fetchArtifact(id, 'spacetime.npy'));
-        if (!alive) return;
-        return drawSpacetime(box, npy, summary, frames, id);
-      } catch (e) { console.error('spacetime.npy', e); }
-    }
-    if (names.has('spacetime.png')) {
-      box.innerHTML = `<img class="artifact-img" id="st-img" alt="space-time map" src="/api/v1/jobs/${id}/artifacts/spacetime.png">`;
-    } else {
-      box.innerHTML = '<p class="muted">no space-time map in this result</p>';
-    }
-    return null;
-  }
-
-  load();
-  return () => { alive = false; clearTimeout(timer); stopMovie(); };
+export function mount(root, params) {
+  const page = createPage(root, params.id);
+  load(page);
+  return () => stop(page);
 }
 
 // The job's state, worker, attempts, timings and cost, then its events.

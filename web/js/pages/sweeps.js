@@ -8,35 +8,32 @@ import { when, escapeHtml, duration } from '../format.js';
 const POLL_MS = 2500;
 const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'structure', 'seeds', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
 
-// The form (each field with its hint and error line) and the card of the list. The form's
-// data-mode ("grid" or "adaptive") shows the .grid-only or the .adaptive-only parts
-// (css/dashboard.css); S and R keep their fields in both modes, their points being the initial
-// grid's in adaptive mode.
-function pageHtml() {
-  const field = (id, labelHtml, input, hint = '') => `
+// A field of the form: its label, its input, its hint and the line for its error.
+function field(id, labelHtml, input, hint = '') {
+  return `
     <div class="f" data-field="${id}">
       <label for="f-${id}">${labelHtml}</label>${input}
       ${hint ? `<div class="f-hint">${hint}</div>` : ''}
       <div class="field-error" id="err-${id}" data-for="${id}" role="alert"></div>
     </div>`;
-  const numIn = (id, value, extra = '') => `<input id="f-${id}" name="${id}" type="text" inputmode="decimal" value="${value}" autocomplete="off" ${extra}>`;
-  const scaleIn = (id) => `<select id="f-${id}" name="${id}"><option value="log" selected>log</option><option value="linear">linear</option></select>`;
-  const byMode = (grid, adaptive) => `<span class="grid-only">${grid}</span><span class="adaptive-only">${adaptive}</span>`;
+}
+const numIn = (id, value, extra = '') => `<input id="f-${id}" name="${id}" type="text" inputmode="decimal" value="${value}" autocomplete="off" ${extra}>`;
+const scaleIn = (id) => `<select id="f-${id}" name="${id}"><option value="log" selected>log</option><option value="linear">linear</option></select>`;
+// Text shown in one mode only (the form's data-mode picks it).
+const byMode = (grid, adaptive) => `<span class="grid-only">${grid}</span><span class="adaptive-only">${adaptive}</span>`;
+const modeOption = (value, label, hint, checked) => `<label class="mode-option"><input type="radio" name="mode" value="${value}" id="f-mode-${value}" ${checked ? 'checked' : ''}><span><b>${label}</b> <span class="muted">${hint}</span></span></label>`;
+
+// The form's card: the kind of sweep, S and R, phi, numerics, refinement (adaptive), the
+// advanced numerics, the token, the job count and the submit button. The form's data-mode
+// ("grid" or "adaptive") shows the .grid-only or the .adaptive-only parts (css/dashboard.css);
+// S and R keep their fields in both modes, their points being the initial grid's in adaptive mode.
+function formHtml() {
   const points = byMode('points', 'initial points');
-  const mode = (value, label, hint, checked) => `<label class="mode-option"><input type="radio" name="mode" value="${value}" id="f-mode-${value}" ${checked ? 'checked' : ''}><span><b>${label}</b> <span class="muted">${hint}</span></span></label>`;
-  return `
-    <div class="page-head">
-      <h1>Sweeps</h1>
-      <p class="sub">A sweep is a grid over the Mach number <i>S</i>, the relative strength <i>R</i> and the solid fraction φ.
-        Each point becomes one job; a point already computed with the same numerics is reused, not run again.
-        An adaptive sweep starts with a coarse grid over a box in <i>S</i> and <i>R</i> at one φ, and the server adds points where neighbouring results disagree, up to its budget.</p>
-    </div>
-    <div class="layout-sweeps">
-      <section class="card form-card">
+  return `<section class="card form-card">
         <h2>New sweep</h2>
         <form id="sweep-form" data-mode="grid" novalidate>
           <div class="mode-choice" role="radiogroup" aria-label="kind of sweep">
-            ${mode('grid', 'grid', 'every point of S × R × φ', true)}${mode('adaptive', 'adaptive', 'refines a box where the classes change', false)}
+            ${modeOption('grid', 'grid', 'every point of S × R × φ', true)}${modeOption('adaptive', 'adaptive', 'refines a box where the classes change', false)}
           </div>
           ${field('name', 'Name', '<input id="f-name" name="name" type="text" placeholder="e.g. phi 0.4 coarse map" autocomplete="off">')}
           <fieldset><legend>Mach number <i>S</i> = <i>V</i>/√(<i>E</i>/ρ) <span class="unit">in (0, 1)</span></legend>
@@ -85,7 +82,20 @@ function pageHtml() {
           </div>
           <div class="form-message" id="form-message" role="status"></div>
         </form>
-      </section>
+      </section>`;
+}
+
+// The form's card and the card of the list.
+function pageHtml() {
+  return `
+    <div class="page-head">
+      <h1>Sweeps</h1>
+      <p class="sub">A sweep is a grid over the Mach number <i>S</i>, the relative strength <i>R</i> and the solid fraction φ.
+        Each point becomes one job; a point already computed with the same numerics is reused, not run again.
+        An adaptive sweep starts with a coarse grid over a box in <i>S</i> and <i>R</i> at one φ, and the server adds points where neighbouring results disagree, up to its budget.</p>
+    </div>
+    <div class="layout-sweeps">
+      ${formHtml()}
       <section class="card list-card">
         <h2>All sweeps</h2>
         <div id="sweep-list"><p class="muted">loading…</p></div>
@@ -93,159 +103,201 @@ function pageHtml() {
     </div>`;
 }
 
-export function mount(root) {
-  let alive = true, timer = null;
+// The page: its form, the fields a person has edited (their errors show before a submit), the
+// server's limits (GET /api/v1/limits, loaded once with the page), the estimate asked last, the
+// next refresh of the list. Every part below takes it explicitly.
+function createPage(root) {
   root.innerHTML = pageHtml();
   const $ = (x) => root.querySelector(`#${x}`);
-  const form = $('sweep-form');
-  const touched = new Set();
-  let submitted = false;
+  return {
+    root, $,
+    form: $('sweep-form'),
+    touched: new Set(),
+    submitted: false, // a submit was tried: every error shows
+    limits: null,
+    estimateTimer: null, estimateSeq: 0, // the estimate waiting for the edits to stop, and the last asked
+    alive: true,
+    timer: null, // the next refresh of the list
+  };
+}
 
-  const values = () => ({
+function formValues($) {
+  return {
     name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
     rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
     phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, structure: $('f-structure').value, seeds: $('f-seeds').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
     snapshots: $('f-snapshots').value, movie: $('f-movie').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
-  });
+  };
+}
 
-  function showErrors(errors, all) {
-    for (const id of FIELDS.concat('token')) {
-      const msg = errors[id] && (all || touched.has(id)) ? errors[id] : '';
-      const el = $(`err-${id}`);
-      if (!el) continue;
-      el.textContent = msg;
-      el.closest('.f').classList.toggle('invalid', !!msg);
-      $(`f-${id}`)?.setAttribute('aria-invalid', msg ? 'true' : 'false');
-      if (msg && ['cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts', 'movie'].includes(id)) el.closest('details').open = true;
+// Each field's error (all of them, or only those of the fields a person edited), opening the
+// advanced numerics when one of theirs has one.
+function showErrors(page, errors, all) {
+  const { $ } = page;
+  for (const id of FIELDS.concat('token')) {
+    const msg = errors[id] && (all || page.touched.has(id)) ? errors[id] : '';
+    const el = $(`err-${id}`);
+    if (!el) continue;
+    el.textContent = msg;
+    el.closest('.f').classList.toggle('invalid', !!msg);
+    $(`f-${id}`)?.setAttribute('aria-invalid', msg ? 'true' : 'false');
+    if (msg && ['cps', 'cpu', 'eps-end', 'snapshots', 'priority', 'attempts', 'movie'].includes(id)) el.closest('details').open = true;
+  }
+}
+
+const formMode = (form) => (form.elements.mode.value === 'adaptive' ? 'adaptive' : 'grid');
+
+// The server's estimate of a valid form's cost (POST /sweeps/estimate: the cost model and the
+// workers connected), asked a moment after the last edit; a late answer to an older form is
+// dropped.
+function estimate(page, r) {
+  clearTimeout(page.estimateTimer);
+  const box = page.$('job-cost');
+  const seq = ++page.estimateSeq;
+  if (!r.ok) { box.textContent = ''; delete box.dataset.cpuSeconds; return; }
+  page.estimateTimer = setTimeout(() => askEstimate(page, r.body, seq), 250);
+}
+
+async function askEstimate(page, body, seq) {
+  const box = page.$('job-cost');
+  try {
+    const e = await api.estimateSweep(body);
+    if (!page.alive || seq !== page.estimateSeq) return;
+    box.dataset.cpuSeconds = String(e.cpu_seconds);
+    box.dataset.workers = String(e.workers);
+    box.innerHTML = costHtml(e);
+  } catch (err) {
+    if (seq !== page.estimateSeq) return;
+    // A rule that spans fields (a grid too coarse for a phi) is the server's: shown at the
+    // field it names.
+    const { errs, rest } = fieldErrors(err.details || []);
+    if (err.status === 422 && Object.keys(errs).length) {
+      showErrors(page, errs, true);
+      box.textContent = rest.length ? `no estimate: ${rest.join('; ')}` : '';
+    } else {
+      box.textContent = `no estimate: ${err.message}`;
     }
   }
+}
 
-  // The server's rules of a sweep (GET /api/v1/limits), loaded once with the page.
-  let limits = null;
-  const mode = () => (form.elements.mode.value === 'adaptive' ? 'adaptive' : 'grid');
-
-  // The server's estimate of a valid form's cost (POST /sweeps/estimate: the cost model and the
-  // workers connected), asked a moment after the last edit; a late answer to an older form is
-  // dropped.
-  let estimateTimer = null, estimateSeq = 0;
-  function estimate(r) {
-    clearTimeout(estimateTimer);
-    const box = $('job-cost');
-    const seq = ++estimateSeq;
-    if (!r.ok) { box.textContent = ''; delete box.dataset.cpuSeconds; return; }
-    estimateTimer = setTimeout(async () => {
-      try {
-        const e = await api.estimateSweep(r.body);
-        if (!alive || seq !== estimateSeq) return;
-        box.dataset.cpuSeconds = String(e.cpu_seconds);
-        box.dataset.workers = String(e.workers);
-        box.innerHTML = costHtml(e);
-      } catch (err) {
-        if (seq !== estimateSeq) return;
-        // A rule that spans fields (a grid too coarse for a phi) is the server's: shown at the
-        // field it names.
-        const { errs, rest } = fieldErrors(err.details || []);
-        if (err.status === 422 && Object.keys(errs).length) {
-          showErrors(errs, true);
-          box.textContent = rest.length ? `no estimate: ${rest.join('; ')}` : '';
-        } else {
-          box.textContent = `no estimate: ${err.message}`;
-        }
-      }
-    }, 250);
+// Checks the form against the server's limits, shows its errors, the number of jobs and the
+// estimate; returns the check (its body is the request).
+function update(page) {
+  const { $, form } = page;
+  if (!page.limits) {
+    $('job-count').innerHTML = '<span class="muted">loading the server\'s limits…</span>';
+    return { ok: false, errors: {}, dims: [0, 0, 0], count: 0 };
   }
+  const adaptive = formMode(form) === 'adaptive';
+  form.dataset.mode = formMode(form);
+  const r = (adaptive ? validateAdaptive : validateSweep)(formValues($), page.limits);
+  showErrors(page, r.errors, page.submitted);
+  showCount($('job-count'), r, adaptive);
+  estimate(page, r);
+  return r;
+}
 
-  function update() {
-    if (!limits) {
-      $('job-count').innerHTML = '<span class="muted">loading the server\'s limits…</span>';
-      return { ok: false, errors: {}, dims: [0, 0, 0], count: 0 };
-    }
-    const adaptive = mode() === 'adaptive';
-    form.dataset.mode = mode();
-    const r = (adaptive ? validateAdaptive : validateSweep)(values(), limits);
-    showErrors(r.errors, submitted);
-    const [a, b, c] = r.dims;
-    const cnt = $('job-count');
-    cnt.dataset.count = String(r.count);
-    const jobs = `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'}`;
-    const countError = r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : '';
-    if (r.count <= 0) cnt.innerHTML = '<span class="muted">fix the ranges to see the number of jobs</span>';
-    else if (!adaptive) {
-      const seeds = r.count / (a * b * c);
-      cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ${seeds > 1 ? ` × ${seeds} seeds` : ''}</span>${countError}`;
-    }
-    else {
-      const most = r.errors.budget ? '' : `, at most ${r.budget.toLocaleString()}`;
-      cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R</div>${countError}`;
-    }
-    estimate(r);
-    return r;
+// The number of jobs the form makes: its factors for a grid, the initial grid and the budget for
+// an adaptive sweep.
+function showCount(cnt, r, adaptive) {
+  const [a, b, c] = r.dims;
+  cnt.dataset.count = String(r.count);
+  const jobs = `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'}`;
+  const countError = r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : '';
+  if (r.count <= 0) cnt.innerHTML = '<span class="muted">fix the ranges to see the number of jobs</span>';
+  else if (!adaptive) {
+    const seeds = r.count / (a * b * c);
+    cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ${seeds > 1 ? ` × ${seeds} seeds` : ''}</span>${countError}`;
   }
-
-  async function submit(ev) {
-    ev.preventDefault();
-    submitted = true;
-    setSubmitToken($('f-token').value.trim());
-    const r = update();
-    const msg = $('form-message');
-    if (!limits) {
-      msg.className = 'form-message error';
-      msg.textContent = 'The server\'s limits are not loaded yet: is the server reachable?';
-      return;
-    }
-    if (!r.ok) {
-      msg.className = 'form-message error';
-      msg.textContent = 'Please fix the fields marked in red.';
-      root.querySelector('.f.invalid input, .f.invalid select')?.focus();
-      return;
-    }
-    $('submit-sweep').disabled = true;
-    msg.className = 'form-message';
-    msg.textContent = 'submitting…';
-    try {
-      const sweep = await api.createSweep(r.body);
-      const phi = sweep.phis?.[0] ?? 0.4;
-      msg.className = 'form-message ok';
-      const budget = sweep.request.adaptive?.budget;
-      msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed)${budget ? `; the server adds points up to ${budget} as results arrive` : ''}. <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
-      submitted = false;
-      touched.clear();
-      refresh();
-    } catch (e) {
-      msg.className = 'form-message error';
-      if (e.status === 401 || e.status === 403) {
-        $('token-box').open = true;
-        showErrors({ token: e.status === 401 ? 'this server needs a submit token' : 'the token was refused' }, true);
-        msg.textContent = `Not allowed (${e.status}): ${e.message}`;
-      } else if (e.details?.length) {
-        const { errs, rest } = fieldErrors(e.details);
-        showErrors(errs, true);
-        msg.textContent = `The server refused the sweep (${e.status})${rest.length ? `: ${rest.join('; ')}` : '; see the marked fields.'}`;
-      } else {
-        msg.textContent = `Could not create the sweep: ${e.message}`;
-      }
-    } finally {
-      $('submit-sweep').disabled = false;
-    }
+  else {
+    const most = r.errors.budget ? '' : `, at most ${r.budget.toLocaleString()}`;
+    cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R</div>${countError}`;
   }
+}
 
-  form.addEventListener('input', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); $('form-message').textContent = ''; });
-  form.addEventListener('change', (ev) => { if (ev.target.name) touched.add(ev.target.name); update(); });
-  form.addEventListener('submit', submit);
+// Sends a valid form as a new sweep and says what the server made of it.
+async function submit(page, ev) {
+  const { $ } = page;
+  ev.preventDefault();
+  page.submitted = true;
+  setSubmitToken($('f-token').value.trim());
+  const r = update(page);
+  const msg = $('form-message');
+  if (!page.limits) {
+    msg.className = 'form-message error';
+    msg.textContent = 'The server\'s limits are not loaded yet: is the server reachable?';
+    return;
+  }
+  if (!r.ok) {
+    msg.className = 'form-message error';
+    msg.textContent = 'Please fix the fields marked in red.';
+    page.root.querySelector('.f.invalid input, .f.invalid select')?.focus();
+    return;
+  }
+  $('submit-sweep').disabled = true;
+  msg.className = 'form-message';
+  msg.textContent = 'submitting…';
+  try {
+    const sweep = await api.createSweep(r.body);
+    const phi = sweep.phis?.[0] ?? 0.4;
+    msg.className = 'form-message ok';
+    const budget = sweep.request.adaptive?.budget;
+    msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed)${budget ? `; the server adds points up to ${budget} as results arrive` : ''}. <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
+    page.submitted = false;
+    page.touched.clear();
+    refresh(page);
+  } catch (e) {
+    showRefusal(page, msg, e);
+  } finally {
+    $('submit-sweep').disabled = false;
+  }
+}
 
+// Why the server did not create the sweep: the token (401, 403), its field errors at the fields,
+// or its message.
+function showRefusal(page, msg, e) {
+  msg.className = 'form-message error';
+  if (e.status === 401 || e.status === 403) {
+    page.$('token-box').open = true;
+    showErrors(page, { token: e.status === 401 ? 'this server needs a submit token' : 'the token was refused' }, true);
+    msg.textContent = `Not allowed (${e.status}): ${e.message}`;
+  } else if (e.details?.length) {
+    const { errs, rest } = fieldErrors(e.details);
+    showErrors(page, errs, true);
+    msg.textContent = `The server refused the sweep (${e.status})${rest.length ? `: ${rest.join('; ')}` : '; see the marked fields.'}`;
+  } else {
+    msg.textContent = `Could not create the sweep: ${e.message}`;
+  }
+}
+
+// Every edit checks the form again; a field edited shows its errors from then on.
+function wireForm(page) {
+  const { form } = page;
+  form.addEventListener('input', (ev) => { if (ev.target.name) page.touched.add(ev.target.name); update(page); page.$('form-message').textContent = ''; });
+  form.addEventListener('change', (ev) => { if (ev.target.name) page.touched.add(ev.target.name); update(page); });
+  form.addEventListener('submit', (ev) => submit(page, ev));
+}
+
+// The server's limits, and its defaults as the placeholders of the fields that take them.
+function loadLimits(page) {
+  const { $ } = page;
   api.limits().then((l) => {
-    if (!alive) return;
-    limits = l;
+    if (!page.alive) return;
+    page.limits = l;
     const movie = l.scene?.movie_d_eps;
     if (movie) $('f-movie').placeholder = String(movie.default);  // the scene's default
     // The adaptive defaults are the server's: an empty field takes them.
     $('f-res').placeholder = String(l.adaptive.resolution_decades);
     $('f-budget').placeholder = String(l.adaptive.budget);
-    update();
+    update(page);
   }).catch(() => {});
+}
 
+// The server's presets as the preset's options, the default chosen, with the chosen one's note.
+function loadPresets(page) {
+  const { $ } = page;
   api.presets().then((p) => {
-    if (!alive) return;
+    if (!page.alive) return;
     const sel = $('f-preset');
     sel.replaceChildren(...p.presets.map((x) => new Option(`${x.name} (${x.cells_per_strut} cells across a strut)`, x.name, false, x.name === p.default)));
     sel.value = p.default;
@@ -253,47 +305,60 @@ export function mount(root) {
     sel.addEventListener('change', note);
     note();
   }).catch(() => {});
-
-  async function refresh() {
-    clearTimeout(timer);
-    if (!alive) return;
-    try {
-      const { sweeps, total } = await api.sweeps(200);
-      if (!alive) return;
-      const list = $('sweep-list');
-      if (!sweeps.length) {
-        list.innerHTML = '<p class="muted">No sweeps yet. The form creates one.</p>';
-      } else {
-        list.innerHTML = sweepsTableHtml(sweeps, total);
-        list.querySelectorAll('button.cancel').forEach((b) => b.addEventListener('click', () => cancel(Number(b.dataset.id))));
-      }
-    } catch (e) {
-      $('sweep-list').innerHTML = `<p class="error">Could not load the sweeps: ${escapeHtml(e.message)}</p>`;
-    }
-    if (alive) timer = setTimeout(refresh, POLL_MS);
-  }
-
-  async function cancel(id) {
-    if (!confirm(`Cancel sweep #${id}? Its queued and running jobs that no other sweep needs are cancelled.`)) return;
-    try {
-      const r = await api.cancelSweep(id);
-      $('form-message').className = 'form-message ok';
-      $('form-message').textContent = `Sweep #${id} cancelled (${r.cancelled_jobs} jobs).`;
-    } catch (e) {
-      $('form-message').className = 'form-message error';
-      $('form-message').textContent = `Could not cancel sweep #${id}: ${e.message}${e.status === 401 || e.status === 403 ? ' (set the submit token under Access)' : ''}`;
-      if (e.status === 401 || e.status === 403) $('token-box').open = true;
-    }
-    refresh();
-  }
-
-  update();
-  refresh();
-  return () => { alive = false; clearTimeout(timer); };
 }
 
-// The server's field errors (its details) at the form's fields, the first one per field; the
-// rest (fields the form does not have, or a second error) as text.
+// Reads the list of sweeps, and again every POLL_MS.
+async function refresh(page) {
+  const { $ } = page;
+  clearTimeout(page.timer);
+  if (!page.alive) return;
+  try {
+    const { sweeps, total } = await api.sweeps(200);
+    if (!page.alive) return;
+    const list = $('sweep-list');
+    if (!sweeps.length) {
+      list.innerHTML = '<p class="muted">No sweeps yet. The form creates one.</p>';
+    } else {
+      list.innerHTML = sweepsTableHtml(sweeps, total);
+      list.querySelectorAll('button.cancel').forEach((b) => b.addEventListener('click', () => cancel(page, Number(b.dataset.id))));
+    }
+  } catch (e) {
+    $('sweep-list').innerHTML = `<p class="error">Could not load the sweeps: ${escapeHtml(e.message)}</p>`;
+  }
+  if (page.alive) page.timer = setTimeout(() => refresh(page), POLL_MS);
+}
+
+async function cancel(page, id) {
+  const { $ } = page;
+  if (!confirm(`Cancel sweep #${id}? Its queued and running jobs that no other sweep needs are cancelled.`)) return;
+  try {
+    const r = await api.cancelSweep(id);
+    $('form-message').className = 'form-message ok';
+    $('form-message').textContent = `Sweep #${id} cancelled (${r.cancelled_jobs} jobs).`;
+  } catch (e) {
+    $('form-message').className = 'form-message error';
+    $('form-message').textContent = `Could not cancel sweep #${id}: ${e.message}${e.status === 401 || e.status === 403 ? ' (set the submit token under Access)' : ''}`;
+    if (e.status === 401 || e.status === 403) $('token-box').open = true;
+  }
+  refresh(page);
+}
+
+function stop(page) {
+  page.alive = false;
+  clearTimeout(page.timer);
+}
+
+export function mount(root) {
+  const page = createPage(root);
+  wireForm(page);
+  loadLimits(page);
+  loadPresets(page);
+  update(page);
+  refresh(page);
+  return () => stop(page);
+}
+
+// The estimate's cost and when it would be done:
 // "about 3.2 CPU-hours; 2 workers connected: done in about 1.6 h (around 14:05)".
 function costHtml(e) {
   const hours = (s) => `${Number((s / 3600).toPrecision(2)).toLocaleString()} CPU-hour${s === 3600 ? '' : 's'}`;
@@ -304,6 +369,8 @@ function costHtml(e) {
   return `${cost}; ${e.workers} worker${e.workers === 1 ? '' : 's'} connected: done in about <b>${duration(e.finish_seconds)}</b> (around ${at}), if nothing else is queued`;
 }
 
+// The server's field errors (its details) at the form's fields, the first one per field; the
+// rest (fields the form does not have, or a second error) as text.
 function fieldErrors(details) {
   const errs = {};
   const rest = [];
