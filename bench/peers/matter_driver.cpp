@@ -48,7 +48,7 @@
 #include <string>
 #include <vector>
 
-#include "simulation/simulation.hpp"
+#include <simulation/simulation.hpp>  // Matter's, from the checkout given on the command line
 
 namespace {
 

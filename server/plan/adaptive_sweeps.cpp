@@ -1,9 +1,13 @@
 #include "plan/adaptive_sweeps.hpp"
 
+#include <algorithm>
+#include <map>
+
 #include <spdlog/spdlog.h>
 
 #include "input/api_error.hpp"
 #include "plan/counted_label.hpp"
+#include "plan/point_tally.hpp"
 
 namespace compaction::server {
 
@@ -11,35 +15,59 @@ using nlohmann::json;
 
 namespace {
 
-// The sweep's finished points (with their labels) and those still queued or running.
-void split_jobs(const std::vector<JobRecord>& jobs, std::vector<adaptive::Labelled>& done,
-                std::vector<adaptive::Point>& pending) {
-  for (const JobRecord& j : jobs) {
-    const adaptive::Point pt{j.S, j.R};
-    if (j.state == "queued" || j.state == "running") {
-      pending.push_back(pt);
-      continue;
+// The sweep's points: finished (every replicate ended; the point's label from its replicates,
+// point_tally.hpp) and waiting (a replicate still queued or running). Runs counted too.
+struct SweepPoints {
+  std::vector<adaptive::Labelled> done;
+  std::vector<adaptive::Point> pending;
+  std::size_t runs_done = 0, runs_pending = 0;
+};
+
+SweepPoints split_points(const std::vector<JobRecord>& jobs) {
+  std::map<std::pair<double, double>, std::vector<const JobRecord*>> points;  // by (S, R)
+  for (const JobRecord& j : jobs) points[{j.S, j.R}].push_back(&j);
+  SweepPoints out;
+  for (const auto& [at, runs] : points) {
+    const adaptive::Point pt{at.first, at.second};
+    std::vector<adaptive::Labelled> finished;
+    for (const JobRecord* j : runs) {
+      if (j->state == "queued" || j->state == "running") continue;
+      if (j->state != "succeeded") {
+        finished.push_back({pt, std::nullopt, 0.0, std::nullopt});  // failed, cancelled: unknown
+        continue;
+      }
+      // The classifier's label is none for an unstable or unclassified run.
+      const std::optional<std::string> human =
+          j->human_label ? std::optional<std::string>(j->human_label->label) : std::nullopt;
+      const auto& r = j->result;
+      finished.push_back(counted_label(pt, human, r ? r->cls : std::nullopt,
+                                       r ? r->confidence : std::nullopt, r ? r->runner_up : std::nullopt));
     }
-    if (j.state != "succeeded") {
-      done.push_back({pt, std::nullopt, 0.0, std::nullopt});  // failed and cancelled: unknown
-      continue;
+    out.runs_done += finished.size();
+    out.runs_pending += runs.size() - finished.size();
+    if (finished.size() < runs.size()) {
+      out.pending.push_back(pt);
+    } else {
+      out.done.push_back(tally(pt, finished, runs.size()).as_run);
     }
-    // The classifier's label is none for an unstable or unclassified run.
-    const std::optional<std::string> human =
-        j.human_label ? std::optional<std::string>(j.human_label->label) : std::nullopt;
-    const auto& r = j.result;
-    done.push_back(counted_label(pt, human, r ? r->cls : std::nullopt,
-                                 r ? r->confidence : std::nullopt, r ? r->runner_up : std::nullopt));
   }
+  return out;
 }
 
-// An adaptive sweep as the planner reads it: its plan from the stored request and its jobs
-// split into finished and pending points.
+// The spec as the planner counts it, in points: the request's budget and in_flight count runs,
+// and each point takes its replicates.
+adaptive::AdaptiveSpec point_spec(const SweepPlan& plan) {
+  adaptive::AdaptiveSpec s = *plan.adaptive;
+  s.budget /= plan.replicates;
+  s.in_flight = std::max<std::size_t>(1, s.in_flight / plan.replicates);
+  return s;
+}
+
+// An adaptive sweep as the planner reads it: its plan from the stored request and its points.
 struct SweepState {
   SweepPlan plan;
   bool cancelled = false;
-  std::vector<adaptive::Labelled> done;
-  std::vector<adaptive::Point> pending;
+  SweepPoints points;
 };
 
 // nullopt for no such sweep or one that is not adaptive; ApiError from plan_sweep when the
@@ -54,7 +82,7 @@ std::optional<SweepState> load(Store& store, const PlannerLimits& limits, std::i
   s.cancelled = sweep->cancelled_at.has_value();
   const auto jobs = store.reads.sweep_jobs(sweep_id);
   if (!jobs) return std::nullopt;
-  split_jobs(*jobs, s.done, s.pending);
+  s.points = split_points(*jobs);
   return s;
 }
 
@@ -72,13 +100,17 @@ std::optional<PlanReport> AdaptiveSweeps::report(Store& store, const PlannerLimi
                                   e.field + ": " + e.what() + ")");
   }
   if (!s) throw ApiError(409, "id", "sweep " + std::to_string(sweep_id) + " is not adaptive");
+  const adaptive::AdaptiveSpec spec = point_spec(s->plan);
   PlanReport r;
   r.spec = *s->plan.adaptive;
-  r.done = s->done.size();
-  r.pending = s->pending.size();
+  r.replicates = s->plan.replicates;
+  r.done = s->points.runs_done;
+  r.pending = s->points.runs_pending;
+  r.points_done = s->points.done.size();
+  r.points_pending = s->points.pending.size();
   r.cancelled = s->cancelled;
-  r.resolved = adaptive::resolved(r.spec, s->done);
-  r.candidates = adaptive::ranked_candidates(r.spec, s->done, s->pending);
+  r.resolved = adaptive::resolved(spec, s->points.done);
+  r.candidates = adaptive::ranked_candidates(spec, s->points.done, s->points.pending);
   return r;
 }
 
@@ -111,16 +143,16 @@ void AdaptiveSweeps::plan_more(Store& store, const PlannerLimits& limits, std::i
     }
     if (!s || s->cancelled) return;
     const SweepPlan& plan = s->plan;
-    const auto& done = s->done;
-    const auto& pending = s->pending;
-    const std::size_t room =
-        plan.adaptive->in_flight > pending.size() ? plan.adaptive->in_flight - pending.size() : 0;
-    const auto points = adaptive::next_points(*plan.adaptive, done, pending, room);
+    const adaptive::AdaptiveSpec spec = point_spec(plan);
+    const auto& done = s->points.done;
+    const auto& pending = s->points.pending;
+    const std::size_t room = spec.in_flight > pending.size() ? spec.in_flight - pending.size() : 0;
+    const auto points = adaptive::next_points(spec, done, pending, room);
     if (points.empty()) {
       if (pending.empty()) {
         spdlog::info("adaptive sweep {} finished: {} runs of a budget of {}, boundaries {}",
-                     sweep_id, done.size(), plan.adaptive->budget,
-                     adaptive::resolved(*plan.adaptive, done) ? "resolved" : "not resolved");
+                     sweep_id, s->points.runs_done, plan.adaptive->budget,
+                     adaptive::resolved(spec, done) ? "resolved" : "not resolved");
       }
       return;
     }
@@ -133,7 +165,8 @@ void AdaptiveSweeps::plan_more(Store& store, const PlannerLimits& limits, std::i
     added += static_cast<std::size_t>(c->n_jobs);
     spdlog::info("adaptive sweep {}: {} points added ({} new, {} reused, {} shared, {} requeued), "
                  "{} of a budget of {}", sweep_id, c->n_jobs, c->n_new, c->n_reused, c->n_shared,
-                 c->n_requeued, done.size() + pending.size() + rows.size(), plan.adaptive->budget);
+                 c->n_requeued, s->points.runs_done + s->points.runs_pending + rows.size(),
+                 plan.adaptive->budget);
     if (c->n_reused == 0) return;  // every new point waits for its run
   }
 }

@@ -1,6 +1,8 @@
 // Adaptive sweeps as the server runs them: when one is created, whenever one of its jobs ends,
 // and at start, the adaptive planner (adaptive_plan.hpp) is asked where to run next, and the
-// points it proposes join the sweep as jobs. The sweep's stored request is the one home of its
+// points it proposes join the sweep as jobs, each point once per replicate. The planner reads a
+// point when all its replicates have finished, with their majority label and a confidence
+// lowered by their disagreement (point_tally.hpp); the budget and in_flight count runs. The sweep's stored request is the one home of its
 // box, budget and numerics; its jobs' states and labels are what the planner reads.
 #pragma once
 
@@ -19,9 +21,12 @@ namespace compaction::server {
 
 // What the planner sees of an adaptive sweep now (GET /api/v1/sweeps/{id}/plan).
 struct PlanReport {
-  adaptive::AdaptiveSpec spec;
+  adaptive::AdaptiveSpec spec;  // as requested: its budget and in_flight count runs
+  std::size_t replicates = 1;   // runs per point
   std::size_t done = 0;     // finished runs: succeeded, failed for good or cancelled
   std::size_t pending = 0;  // queued or running
+  std::size_t points_done = 0;     // points whose every replicate finished
+  std::size_t points_pending = 0;  // points with a replicate queued or running
   bool cancelled = false;
   bool resolved = false;    // adaptive::resolved over the finished runs
   std::vector<adaptive::Proposal> candidates;  // every point worth running now, best first

@@ -28,8 +28,9 @@ const std::set<std::string> numerics_keys = {
     "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "pore_contact", "perturbation", "seed",
     "structure", "seeds"};
 
-const std::set<std::string> request_keys = {"name", "points", "S", "R", "phi", "numerics",
-                                            "priority", "max_attempts", "adaptive"};
+const std::set<std::string> request_keys = {"name",     "points",       "S",       "R",
+                                            "phi",      "numerics",     "priority", "max_attempts",
+                                            "adaptive", "replicates"};
 
 [[noreturn]] void invalid(const std::string& field, const std::string& message,
                           int status = 422) {
@@ -74,8 +75,55 @@ std::vector<std::uint64_t> seed_list(const json& v) {
   return out;
 }
 
+// The field a request names its replicates in: replicates, else numerics.seeds.
+std::string replicates_field(const json& request) {
+  return request.contains("replicates") ? "replicates" : "numerics.seeds";
+}
+
+// replicates: {"n": 1 to kMaxSeeds, "perturbation": in the engine's range}, run with the seeds
+// 1..n; moves the perturbation into the numerics. numerics.seed, numerics.seeds and a second
+// perturbation beside it are refused: each replicate's seed and the perturbation have one home.
+std::vector<std::uint64_t> read_replicates(const json& r, json& numerics) {
+  if (!r.is_object()) {
+    invalid("replicates", "must be an object {\"n\": runs per point, \"perturbation\": "
+                          "fraction of the particle spacing}, got " + describe(r));
+  }
+  for (const auto& [key, value] : r.items()) {
+    if (key != "n" && key != "perturbation") {
+      invalid("replicates." + key, "unknown key (expected n, perturbation)");
+    }
+  }
+  for (const char* key : {"seed", "seeds"}) {
+    if (numerics.contains(key)) {
+      invalid("numerics." + std::string(key),
+              "give replicates (seeds 1..n) or numerics.seed/seeds, not both");
+    }
+  }
+  if (!r.contains("n")) invalid("replicates.n", "is required");
+  if (!r["n"].is_number_integer()) invalid("replicates.n", "must be an integer, got " + describe(r["n"]));
+  const auto n = as_int64(r["n"]);
+  if (!n || *n < 1 || static_cast<std::size_t>(*n) > kMaxSeeds) {
+    invalid("replicates.n", "must be in [1, " + std::to_string(kMaxSeeds) + "], got " + describe(r["n"]));
+  }
+  if (r.contains("perturbation")) {
+    if (numerics.contains("perturbation")) {
+      invalid("replicates.perturbation", "is given in numerics.perturbation too: give it once");
+    }
+    const json& v = r["perturbation"];
+    if (!finite_number(v) || !limits::perturbation.contains(v.get<double>())) {
+      invalid("replicates.perturbation", "must be a number in " + to_string(limits::perturbation) +
+                                             " (a fraction of the particle spacing), got " + describe(v));
+    }
+    numerics["perturbation"] = v;
+  }
+  std::vector<std::uint64_t> seeds;
+  for (long long i = 1; i <= *n; ++i) seeds.push_back(static_cast<std::uint64_t>(i));
+  return seeds;
+}
+
 // The scene every point starts from: preset, then the explicit numerics over it; `seeds` the
-// seeds of numerics.seeds (empty without it: each point runs once with the scene's seed).
+// seeds each point runs with, one run per seed (replicates, or numerics.seeds; empty without
+// them: each point runs once with the scene's seed).
 SceneParams base_scene(const json& body, std::string& preset_name,
                        std::vector<std::uint64_t>& seeds) {
   json numerics = json::object();
@@ -87,7 +135,9 @@ SceneParams base_scene(const json& body, std::string& preset_name,
     if (!numerics_keys.count(key)) invalid("numerics." + key, "unknown numerics key");
   }
   seeds.clear();
-  if (numerics.contains("seeds")) {
+  if (body.contains("replicates")) {
+    seeds = read_replicates(body["replicates"], numerics);
+  } else if (numerics.contains("seeds")) {
     if (numerics.contains("seed")) invalid("numerics.seeds", "give seed or seeds, not both");
     seeds = seed_list(numerics["seeds"]);
     numerics.erase("seeds");
@@ -113,6 +163,11 @@ SceneParams base_scene(const json& body, std::string& preset_name,
     throw ApiError(422, std::move(named));
   }
   if (seeds.size() > 1 && scene.structure == Structure::regular && scene.perturbation == 0.0) {
+    if (body.contains("replicates")) {
+      invalid("replicates.perturbation",
+              "is required: replicates of a regular structure without perturbation are one run "
+              "repeated (or set numerics.structure to \"random\")");
+    }
     invalid("numerics.seeds",
             "the seed changes nothing in a regular structure without perturbation: set "
             "numerics.structure to \"random\" (or a perturbation)");
@@ -277,22 +332,27 @@ std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
                                          const PlannerLimits& limits) {
   std::string preset;
   std::vector<std::uint64_t> seeds;
-  SceneParams base = base_scene(plan.request, preset, seeds);
-  if (!seeds.empty()) base.seed = seeds.front();  // an adaptive sweep takes one seed
+  const SceneParams base = base_scene(plan.request, preset, seeds);
   const double phi = plan.scenes.empty() ? base.phi : plan.scenes.front().phi;
   std::vector<SceneParams> out;
-  for (const adaptive::Point& pt : points) out.push_back(make_scene(base, pt.S, pt.R, phi, "", limits));
+  for (const adaptive::Point& pt : points) {
+    SceneParams p = make_scene(base, pt.S, pt.R, phi, "", limits);
+    if (seeds.empty()) {
+      out.push_back(p);
+      continue;
+    }
+    for (std::uint64_t seed : seeds) {
+      p.seed = seed;
+      out.push_back(p);
+    }
+  }
   return out;
 }
 
-SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
-  if (!body.is_object()) invalid("body", "must be a JSON object", 400);
-  for (const auto& [key, value] : body.items()) {
-    if (!request_keys.count(key)) invalid(key, "unknown key");
-  }
-  SweepPlan plan;
-  plan.request = body;
+namespace {
 
+// name, priority and max_attempts.
+void read_header(const json& body, const PlannerLimits& limits, SweepPlan& plan) {
   if (!body.contains("name")) invalid("name", "is required");
   if (!body["name"].is_string()) invalid("name", "must be a string, got " + describe(body["name"]));
   plan.name = body["name"].get<std::string>();
@@ -302,111 +362,153 @@ SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
   if (has_control_characters(plan.name)) invalid("name", "must not hold control characters");
   plan.priority = integer_in(body, "priority", kDefaultPriority, kPriorityMin, kPriorityMax);
   plan.max_attempts = integer_in(body, "max_attempts", kDefaultMaxAttempts, 1, limits.max_attempts);
+}
 
-  std::vector<std::uint64_t> seeds;
-  const SceneParams base = base_scene(body, plan.preset, seeds);
-  // Each point once per seed of numerics.seeds, in the order given (else once).
-  const std::size_t per_point = std::max<std::size_t>(1, seeds.size());
-  auto check_count = [&](std::size_t points) {
-    if (per_point > 1 && static_cast<double>(points) * per_point > limits.max_points) {
-      invalid("numerics.seeds", std::to_string(points) + " points x " + std::to_string(per_point) +
-                                    " seeds exceed the sweep limit of " +
-                                    std::to_string(limits.max_points) + " runs", 413);
-    }
-  };
-
-  const bool has_points = body.contains("points");
+// The sweep's scenes: each point once per replicate seed, a scene already listed not again.
+struct SceneList {
+  SweepPlan& plan;
+  const std::vector<std::uint64_t>& seeds;  // empty: each point once, with the scene's seed
+  const PlannerLimits& limits;
   std::set<std::string> seen;
-  auto add_one = [&](SceneParams p) {
-    if (seen.insert(canonical_scene(p)).second) plan.scenes.push_back(std::move(p));
-  };
-  auto add = [&](SceneParams p) {
+
+  std::size_t per_point() const { return std::max<std::size_t>(1, seeds.size()); }
+
+  // Refuses a sweep whose points x replicates exceed the sweep limit.
+  void check_count(std::size_t points) const {
+    if (per_point() > 1 && static_cast<double>(points) * per_point() > limits.max_points) {
+      invalid(replicates_field(plan.request), std::to_string(points) + " points x " +
+                                                   std::to_string(per_point()) +
+                                                   " replicates exceed the sweep limit of " +
+                                                   std::to_string(limits.max_points) + " runs",
+              413);
+    }
+  }
+
+  void add(SceneParams p) {
     if (seeds.empty()) return add_one(std::move(p));
     for (std::uint64_t seed : seeds) {
       p.seed = seed;
       add_one(p);
     }
-  };
-
-  if (body.contains("adaptive")) {
-    // A box of S and R at one phi, from which the sweep grows (adaptive_plan.hpp).
-    for (const char* key : {"points", "S", "R"}) {
-      if (body.contains(key)) {
-        invalid(key, "an adaptive sweep takes its S and R box inside \"adaptive\", not beside it");
-      }
-    }
-    if (!body.contains("phi")) invalid("phi", "is required: an adaptive sweep maps one phi");
-    const auto phi = expand_axis(body["phi"], "phi", limits.max_points);
-    if (phi.size() != 1) {
-      invalid("phi", "an adaptive sweep maps one phi, got " + std::to_string(phi.size()) + " values");
-    }
-    if (seeds.size() > 1) {
-      invalid("numerics.seeds", "an adaptive sweep maps one structure: give one seed "
-                                "(numerics.seed), got " + std::to_string(seeds.size()));
-    }
-    plan.adaptive = adaptive::parse_spec(body["adaptive"], limits.max_points);
-    // The stored request says what the sweep does: the defaults it took written in.
-    json& spec = plan.request["adaptive"];
-    spec["initial"] = {{"S", plan.adaptive->initial_S}, {"R", plan.adaptive->initial_R}};
-    spec["resolution_decades"] = plan.adaptive->resolution_decades;
-    spec["budget"] = plan.adaptive->budget;
-    // The initial grid in the planner's order (cheapest first, as every later point): the
-    // queue runs a sweep's jobs in the order they were added.
-    const std::size_t n_initial = adaptive::initial_points(*plan.adaptive).size();
-    for (const adaptive::Point& pt : adaptive::next_points(*plan.adaptive, {}, {}, n_initial)) {
-      add(make_scene(base, pt.S, pt.R, phi[0], "", limits));
-    }
-    return plan;
   }
 
-  const bool has_grid = body.contains("S") || body.contains("R") || body.contains("phi");
-  if (has_points && has_grid) invalid("points", "give either points or a grid (S, R, phi), not both");
-  if (!has_points && !has_grid) invalid("points", "give points or a grid over S, R and phi");
-  if (has_points) {
-    const json& points = body["points"];
-    if (!points.is_array()) invalid("points", "must be an array, got " + describe(points));
-    if (points.empty()) invalid("points", "must not be empty");
-    if (points.size() > limits.max_points) {
-      invalid("points", std::to_string(points.size()) + " points exceed the sweep limit of " +
-                            std::to_string(limits.max_points), 413);
-    }
-    check_count(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const std::string where = "points[" + std::to_string(i) + "].";
-      const json& pt = points[i];
-      if (!pt.is_object()) invalid("points[" + std::to_string(i) + "]", "must be an object");
-      for (const auto& [key, value] : pt.items()) {
-        if (key != "S" && key != "R" && key != "phi") invalid(where + key, "unknown key");
-      }
-      add(make_scene(base, point_value(pt, "S", where), point_value(pt, "R", where),
-                     point_value(pt, "phi", where), where, limits));
-    }
-    return plan;
+ private:
+  void add_one(SceneParams p) {
+    if (seen.insert(canonical_scene(p)).second) plan.scenes.push_back(std::move(p));
   }
+};
 
+// A box of S and R at one phi, from which the sweep grows (adaptive_plan.hpp): the initial grid
+// now, the rest as results arrive (adaptive_sweeps.hpp).
+void plan_adaptive(const json& body, const SceneParams& base, SceneList& scenes) {
+  SweepPlan& plan = scenes.plan;
+  for (const char* key : {"points", "S", "R"}) {
+    if (body.contains(key)) {
+      invalid(key, "an adaptive sweep takes its S and R box inside \"adaptive\", not beside it");
+    }
+  }
+  if (!body.contains("phi")) invalid("phi", "is required: an adaptive sweep maps one phi");
+  const auto phi = expand_axis(body["phi"], "phi", scenes.limits.max_points);
+  if (phi.size() != 1) {
+    invalid("phi", "an adaptive sweep maps one phi, got " + std::to_string(phi.size()) + " values");
+  }
+  plan.adaptive = adaptive::parse_spec(body["adaptive"], scenes.limits.max_points);
+  // The budget counts runs: each point's replicates are runs of their own.
+  const std::size_t n_initial = adaptive::initial_points(*plan.adaptive).size();
+  if (n_initial * scenes.per_point() > plan.adaptive->budget) {
+    invalid("adaptive.budget", "must cover the initial grid's " + std::to_string(n_initial) +
+                                   " points x " + std::to_string(scenes.per_point()) +
+                                   " replicates, got " + std::to_string(plan.adaptive->budget));
+  }
+  // The stored request says what the sweep does: the defaults it took written in.
+  json& spec = plan.request["adaptive"];
+  spec["initial"] = {{"S", plan.adaptive->initial_S}, {"R", plan.adaptive->initial_R}};
+  spec["resolution_decades"] = plan.adaptive->resolution_decades;
+  spec["budget"] = plan.adaptive->budget;
+  // The initial grid in the planner's order (cheapest first, as every later point): the
+  // queue runs a sweep's jobs in the order they were added.
+  for (const adaptive::Point& pt : adaptive::next_points(*plan.adaptive, {}, {}, n_initial)) {
+    scenes.add(make_scene(base, pt.S, pt.R, phi[0], "", scenes.limits));
+  }
+}
+
+// An explicit list of points, each {S, R, phi}.
+void plan_points(const json& points, const SceneParams& base, SceneList& scenes) {
+  if (!points.is_array()) invalid("points", "must be an array, got " + describe(points));
+  if (points.empty()) invalid("points", "must not be empty");
+  if (points.size() > scenes.limits.max_points) {
+    invalid("points", std::to_string(points.size()) + " points exceed the sweep limit of " +
+                          std::to_string(scenes.limits.max_points), 413);
+  }
+  scenes.check_count(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::string where = "points[" + std::to_string(i) + "].";
+    const json& pt = points[i];
+    if (!pt.is_object()) invalid("points[" + std::to_string(i) + "]", "must be an object");
+    for (const auto& [key, value] : pt.items()) {
+      if (key != "S" && key != "R" && key != "phi") invalid(where + key, "unknown key");
+    }
+    scenes.add(make_scene(base, point_value(pt, "S", where), point_value(pt, "R", where),
+                          point_value(pt, "phi", where), where, scenes.limits));
+  }
+}
+
+// A grid over S, R and phi, S fastest.
+void plan_grid(const json& body, const SceneParams& base, SceneList& scenes) {
+  const std::size_t max_points = scenes.limits.max_points;
   for (const char* key : {"S", "R", "phi"}) {
     if (!body.contains(key)) invalid(key, "is required for a grid");
   }
-  const auto S = expand_axis(body["S"], "S", limits.max_points);
-  const auto R = expand_axis(body["R"], "R", limits.max_points);
-  const auto phi = expand_axis(body["phi"], "phi", limits.max_points);
+  const auto S = expand_axis(body["S"], "S", max_points);
+  const auto R = expand_axis(body["R"], "R", max_points);
+  const auto phi = expand_axis(body["phi"], "phi", max_points);
   const double total = static_cast<double>(S.size()) * R.size() * phi.size();
-  if (total > static_cast<double>(limits.max_points)) {
+  if (total > static_cast<double>(max_points)) {
     const char* biggest = S.size() >= R.size() && S.size() >= phi.size() ? "S"
                           : R.size() >= phi.size()                      ? "R"
                                                                         : "phi";
     invalid(biggest, "a grid of " + std::to_string(S.size()) + " x " + std::to_string(R.size()) +
                          " x " + std::to_string(phi.size()) + " points exceeds the sweep limit of " +
-                         std::to_string(limits.max_points), 413);
+                         std::to_string(max_points), 413);
   }
-  check_count(static_cast<std::size_t>(total));
+  scenes.check_count(static_cast<std::size_t>(total));
   for (double f : phi) {
     for (double r : R) {
       for (double s : S) {
         // Grid errors name the axis ("S") rather than a point.
-        add(make_scene(base, s, r, f, "", limits));
+        scenes.add(make_scene(base, s, r, f, "", scenes.limits));
       }
     }
+  }
+}
+
+}  // namespace
+
+SweepPlan plan_sweep(const json& body, const PlannerLimits& limits) {
+  if (!body.is_object()) invalid("body", "must be a JSON object", 400);
+  for (const auto& [key, value] : body.items()) {
+    if (!request_keys.count(key)) invalid(key, "unknown key");
+  }
+  SweepPlan plan;
+  plan.request = body;
+  read_header(body, limits, plan);
+  std::vector<std::uint64_t> seeds;
+  const SceneParams base = base_scene(body, plan.preset, seeds);
+  SceneList scenes{plan, seeds, limits, {}};
+  plan.replicates = scenes.per_point();
+
+  if (body.contains("adaptive")) {
+    plan_adaptive(body, base, scenes);
+    return plan;
+  }
+  const bool has_points = body.contains("points");
+  const bool has_grid = body.contains("S") || body.contains("R") || body.contains("phi");
+  if (has_points && has_grid) invalid("points", "give either points or a grid (S, R, phi), not both");
+  if (!has_points && !has_grid) invalid("points", "give points or a grid over S, R and phi");
+  if (has_points) {
+    plan_points(body["points"], base, scenes);
+  } else {
+    plan_grid(body, base, scenes);
   }
   return plan;
 }

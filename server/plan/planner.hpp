@@ -7,6 +7,8 @@
 //    "phi": 0.4,                                                    one value
 //    "numerics": {"preset": "fast", "cells_per_unit": 8, "eps_end": 0.05, ...},
 //                 ("structure": "random", "seeds": [1, 2, 3] runs each point once per seed)
+//    "replicates": {"n": 4, "perturbation": 0.01},                  or n runs of each point, the
+//                                                                   particles perturbed, seeds 1..n
 //    "priority": 0, "max_attempts": 3}
 //
 // or an adaptive sweep over one phi, which starts from a grid and grows where labels differ
@@ -14,7 +16,12 @@
 //    "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
 //                 "initial": {"S": 5, "R": 5}, "resolution_decades": 0.125, "budget": 200}
 //
-// Every scene goes through compaction::from_json (strict types, validate()'s ranges). Errors
+// The replicates of a point (numerics.seeds or replicates: the explicit seeds or their count) are
+// runs of one scene up to its seed; the store groups them into the map's point (migration 0011,
+// map_points.hpp). An adaptive sweep runs each of its points with every seed.
+//
+// Every scene is read with compaction::read_json (strict types) and validated once, per point
+// (validate()'s ranges, with the point's S, R and phi). Errors
 // name the field of the request ("points[2].phi", "S.min", "numerics.cfl") and are thrown as
 // ApiError: 422 for invalid values, 413 for a sweep above the size limit.
 #pragma once
@@ -37,7 +44,7 @@ namespace compaction::server {
 inline constexpr std::size_t kMaxNameBytes = 200;
 inline constexpr int kPriorityMin = -1000, kPriorityMax = 1000, kDefaultPriority = 0;
 inline constexpr int kDefaultMaxAttempts = 3;
-inline constexpr std::size_t kMaxSeeds = 100;  // numerics.seeds: seeds per point
+inline constexpr std::size_t kMaxSeeds = 100;  // replicates.n, numerics.seeds: runs per point
 
 struct PlannerLimits {
   std::size_t max_points = 2000;  // scenes per sweep
@@ -50,6 +57,7 @@ struct SweepPlan {
   int priority = 0;       // higher runs first, in [-1000, 1000]
   int max_attempts = 3;   // runs of a job before it stays failed
   std::string preset;     // the resolution preset the numerics started from
+  std::size_t replicates = 1;  // runs per point: its seeds (replicates.n or numerics.seeds)
   std::vector<SceneParams> scenes;  // distinct, in request order (an adaptive sweep's first grid)
   nlohmann::json request;           // the body as accepted
   std::optional<adaptive::AdaptiveSpec> adaptive;  // set for an adaptive sweep
@@ -62,8 +70,8 @@ SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {
 NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version);
 NewJob job_row(const SceneParams& p, const std::string& engine_version);
 
-// The scenes of further points of an adaptive sweep, from its stored request (its numerics and
-// phi), in the order given.
+// The scenes of further points of an adaptive sweep, from its stored request (its numerics,
+// replicates and phi), in the order given, each point once per replicate seed.
 std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
                                          const std::vector<adaptive::Point>& points,
                                          const PlannerLimits& limits = {});

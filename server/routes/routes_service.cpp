@@ -43,6 +43,8 @@ json limits_json(const PlannerLimits& l) {
             {"max_attempts", {{"lo", 1}, {"hi", l.max_attempts}, {"default", kDefaultMaxAttempts}}},
             {"max_upload_bytes", l.max_bundle_bytes},
             {"max_seeds", kMaxSeeds}}},
+          // replicates: {n, perturbation}, n in [1, max_n], the perturbation in the scene's range
+          {"replicates", {{"max_n", kMaxSeeds}, {"perturbation", range_json(lim::perturbation)}}},
           {"scene",
            {{"S", range_json(lim::S)},
             {"R", range_json(lim::R)},

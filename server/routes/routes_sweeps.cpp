@@ -1,5 +1,6 @@
 // /api/v1/sweeps: create (grid, points or adaptive), list (through the answer cache: ETag,
 // If-None-Match), show with progress counts, an adaptive sweep's plan, cancel, export.
+#include <map>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -35,8 +36,9 @@ std::string csv_field(const json& v) {
   return s;
 }
 
-// One line per job of the sweep: its parameters, state and result.
-std::string export_csv(const json& rows) {
+// One line per job of the sweep: its parameters, state and result, and its point (the
+// replicates read together: its id, label, share, runs and whether robust).
+std::string export_csv(const json& rows, const json& points) {
   static const char* job_keys[] = {"id", "S", "R", "phi", "cells_per_unit", "eps_end", "state",
                                    "attempts", "last_error"};
   static const char* result_keys[] = {"status", "reason", "class", "confidence", "runner_up",
@@ -44,10 +46,16 @@ std::string export_csv(const json& rows) {
                                       "wall_seconds", "engine_version", "source_revision"};
   // A person's label beside the classifier's "class" (empty when nobody set one).
   static const char* human_keys[] = {"label", "reason", "by", "at"};
+  static const char* point_keys[] = {"point_id", "label", "share", "runs", "robust"};
+  std::map<std::int64_t, const json*> point_of;  // job id -> its point
+  for (const json& p : points) {
+    for (const json& job : p["jobs"]) point_of[job.get<std::int64_t>()] = &p;
+  }
   std::ostringstream out;
   out << "job_id,S,R,phi,cells_per_unit,eps_end,state,attempts,last_error";
   for (const char* k : result_keys) out << ',' << k;
   for (const char* k : human_keys) out << ",human_" << k;
+  out << ",point_id,point_label,point_share,point_runs,point_robust";
   out << ",scene\n";
   for (const json& row : rows) {
     bool first = true;
@@ -59,6 +67,8 @@ std::string export_csv(const json& rows) {
     for (const char* k : result_keys) out << ',' << (r.is_null() ? "" : csv_field(r[k]));
     const json& h = row["human_label"];
     for (const char* k : human_keys) out << ',' << (h.is_null() ? "" : csv_field(h[k]));
+    const auto p = point_of.find(row["id"].get<std::int64_t>());
+    for (const char* k : point_keys) out << ',' << (p == point_of.end() ? "" : csv_field((*p->second)[k]));
     out << ',' << csv_field(row["scene"].dump()) << '\n';
   }
   return out.str();
@@ -172,11 +182,14 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                if (!sweep || !rows) throw ApiError(404, "id", "no such sweep");
                const std::string file = "sweep-" + std::to_string(id) + "." + format;
                res.set_header("Content-Disposition", "attachment; filename=\"" + file + "\"");
+               const json points = json::parse(views::point_summaries(app.store.reads.sweep_map(id)));
                if (format == "csv") {
                  res.status = 200;
-                 res.set_content(export_csv(views::sweep_jobs(*rows)), "text/csv");
+                 res.set_content(export_csv(views::sweep_jobs(*rows), points), "text/csv");
                } else {
-                 send_json(res, 200, {{"sweep", views::sweep(*sweep)}, {"jobs", views::sweep_jobs(*rows)}});
+                 send_json(res, 200, {{"sweep", views::sweep(*sweep)},
+                                      {"jobs", views::sweep_jobs(*rows)},
+                                      {"points", points}});
                }
              });
 }

@@ -17,7 +17,7 @@ constexpr const char* job_columns =
     " r.status, r.reason, r.class, r.confidence, r.runner_up, r.n_reflections,"
     " r.band_speed_ratio, r.features, r.engine_version, r.source_revision, r.eps_reached,"
     " r.wall_seconds, r.worker, r.created_at, r.origin_database, r.origin_job, r.imported_at,"
-    " h.label, h.reason, h.set_by, h.set_at, h.token, h.imported_at";
+    " h.label, h.reason, h.set_by, h.set_at, h.token, h.imported_at, j.point_id";
 
 // What job_columns reads beside the job j: its result and its human label.
 constexpr const char* result_joins =
@@ -72,6 +72,7 @@ JobRecord read_job(sqlite::Statement& s) {
     j.human_label = HumanLabel{s.text(38), s.text(39), s.text(40), s.int64(41),
                                s.opt_text(42).value_or(""), s.opt_int64(43)};
   }
+  j.point_id = s.opt_int64(44).value_or(0);
   return j;
 }
 
@@ -210,6 +211,10 @@ std::optional<JobDetail> StoreReads::job(std::int64_t id) {
   auto sweeps = db->prepare("SELECT sweep_id FROM sweep_jobs WHERE job_id = ? ORDER BY sweep_id");
   sweeps.bind(1, id);
   while (sweeps.step()) d.sweeps.push_back(sweeps.int64(0));
+  auto replicates = db->prepare(
+      "SELECT id FROM jobs WHERE point_id = ?1 AND id <> ?2 ORDER BY id LIMIT ?3");
+  replicates.bind(1, d.job.point_id).bind(2, id).bind(3, static_cast<std::int64_t>(kMaxListedReplicates));
+  while (replicates.step()) d.replicates.push_back(replicates.int64(0));
   auto events = db->prepare(
       "SELECT at, kind, attempt, worker, message FROM job_events WHERE job_id = ? ORDER BY id");
   events.bind(1, id);
@@ -228,18 +233,55 @@ std::optional<JobDetail> StoreReads::job(std::int64_t id) {
   return d;
 }
 
+namespace {
+
+// What the map reads of a job and its result, in the order read_map_point reads them.
+constexpr const char* map_columns =
+    "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
+    " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps,"
+    " r.band_speed_error, r.band_speed_transit, r.band_speed_transit_error, h.label,"
+    " j.structure, r.band_speed_early, r.band_speed_early_error, r.band_speed_lead,"
+    " r.band_speed_lead_error, j.point_id";
+
+PhaseMapPoint read_map_point(sqlite::Statement& s) {
+  PhaseMapPoint p;
+  p.S = s.real(0);
+  p.R = s.real(1);
+  p.phi = s.real(2);
+  p.state = s.text(3);
+  p.cls = s.opt_text(4);
+  p.confidence = s.opt_real(5);
+  p.runner_up = s.opt_text(6);
+  p.n_reflections = s.opt_int64(7);
+  p.band_speed_ratio = s.opt_real(8);
+  p.job_id = s.int64(9);
+  p.status = s.opt_text(10);
+  p.cells_per_unit = s.int64(11);
+  p.eps_end = s.real(12);
+  p.progress_eps = s.opt_real(13);
+  p.band_speed_error = s.opt_real(14);
+  p.band_speed_transit = s.opt_real(15);
+  p.band_speed_transit_error = s.opt_real(16);
+  p.human_label = s.opt_text(17);
+  if (auto structure = s.opt_text(18)) p.structure = *structure;
+  p.band_speed_early = s.opt_real(19);
+  p.band_speed_early_error = s.opt_real(20);
+  p.band_speed_lead = s.opt_real(21);
+  p.band_speed_lead_error = s.opt_real(22);
+  p.point_id = s.opt_int64(23).value_or(0);
+  return p;
+}
+
+}  // namespace
+
 std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::int64_t> sweep_id,
                                                  std::optional<std::int64_t> cells_per_unit) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
-      "SELECT j.S, j.R, j.phi, j.state, r.class, r.confidence, r.runner_up, r.n_reflections,"
-      " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps,"
-      " r.band_speed_error, r.band_speed_transit, r.band_speed_transit_error, h.label,"
-      " j.structure, r.band_speed_early, r.band_speed_early_error, r.band_speed_lead,"
-      " r.band_speed_lead_error"
-      // The covering indexes of migrations 0008 and 0009; named, as SQLite would otherwise read
-      // each result by its row (rowid) and so its whole summary.
+      std::string(map_columns) +
+      // The covering indexes of migrations 0008, 0009 and 0011; named, as SQLite would otherwise
+      // read each result by its row (rowid) and so its whole summary.
       " FROM jobs j INDEXED BY jobs_map"
       " LEFT JOIN results r INDEXED BY results_map ON r.job_id = j.id"
       " LEFT JOIN human_labels h ON h.job_id = j.id"
@@ -248,33 +290,7 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
       " AND (?3 IS NULL OR j.cells_per_unit = ?3)");
   s.bind(1, phi).bind(2, sweep_id).bind(3, cells_per_unit);
   std::vector<PhaseMapPoint> points;
-  while (s.step()) {
-    PhaseMapPoint p;
-    p.S = s.real(0);
-    p.R = s.real(1);
-    p.phi = s.real(2);
-    p.state = s.text(3);
-    p.cls = s.opt_text(4);
-    p.confidence = s.opt_real(5);
-    p.runner_up = s.opt_text(6);
-    p.n_reflections = s.opt_int64(7);
-    p.band_speed_ratio = s.opt_real(8);
-    p.job_id = s.int64(9);
-    p.status = s.opt_text(10);
-    p.cells_per_unit = s.int64(11);
-    p.eps_end = s.real(12);
-    p.progress_eps = s.opt_real(13);
-    p.band_speed_error = s.opt_real(14);
-    p.band_speed_transit = s.opt_real(15);
-    p.band_speed_transit_error = s.opt_real(16);
-    p.human_label = s.opt_text(17);
-    if (auto structure = s.opt_text(18)) p.structure = *structure;
-    p.band_speed_early = s.opt_real(19);
-    p.band_speed_early_error = s.opt_real(20);
-    p.band_speed_lead = s.opt_real(21);
-    p.band_speed_lead_error = s.opt_real(22);
-    points.push_back(std::move(p));
-  }
+  while (s.step()) points.push_back(read_map_point(s));
   // jobs_map yields the rows by (phi, S, R, id), which is (S, R, id) whenever the jobs within the
   // tolerance share one phi; sorted here otherwise (an ORDER BY would sort every time).
   const auto by_S_R_id = [](const PhaseMapPoint& a, const PhaseMapPoint& b) {
@@ -283,6 +299,20 @@ std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::
   if (!std::is_sorted(points.begin(), points.end(), by_S_R_id)) {
     std::sort(points.begin(), points.end(), by_S_R_id);
   }
+  return points;
+}
+
+std::vector<PhaseMapPoint> StoreReads::sweep_map(std::int64_t sweep_id) {
+  auto db = db_.readers.take();
+  sqlite::ReadTransaction read(*db);
+  auto s = db->prepare(std::string(map_columns) +
+                       " FROM sweep_jobs sj JOIN jobs j ON j.id = sj.job_id"
+                       " LEFT JOIN results r INDEXED BY results_map ON r.job_id = j.id"
+                       " LEFT JOIN human_labels h ON h.job_id = j.id"
+                       " WHERE sj.sweep_id = ? ORDER BY sj.position, j.id");
+  s.bind(1, sweep_id);
+  std::vector<PhaseMapPoint> points;
+  while (s.step()) points.push_back(read_map_point(s));
   return points;
 }
 

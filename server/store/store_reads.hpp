@@ -63,6 +63,7 @@ struct JobRecord {
   std::optional<Millis> started_at, heartbeat_at, finished_at, lease_deadline;
   std::optional<StoredResult> result;
   std::optional<HumanLabel> human_label;  // a person's label beside the classifier's
+  std::int64_t point_id = 0;  // the point the run is a replicate of (migration 0011)
 };
 
 struct EventRecord {
@@ -73,9 +74,13 @@ struct EventRecord {
   std::string message;
 };
 
+inline constexpr std::size_t kMaxListedReplicates = 1000;
+
 struct JobDetail {
   JobRecord job;
   std::vector<std::int64_t> sweeps;
+  // The other runs of its point (its replicates: migration 0011), the first kMaxListedReplicates.
+  std::vector<std::int64_t> replicates;
   std::vector<EventRecord> events;  // the newest max_events_per_job
   std::int64_t events_dropped = 0;
   std::optional<std::string> summary;  // summary.json of the result
@@ -94,6 +99,7 @@ struct PhaseMapPoint {
       band_speed_lead_error;
   std::optional<std::int64_t> n_reflections;
   std::int64_t job_id = 0, cells_per_unit = 0;
+  std::int64_t point_id = 0;  // the point the run is a replicate of (migration 0011)
   std::optional<std::string> human_label;  // a person's label; `cls` stays the classifier's
   std::string structure = "regular";  // the scene's voids; scenes older than the key: regular
 };
@@ -160,6 +166,8 @@ class StoreReads {
   // The runs at phi (within 1e-9), of one sweep and one grid (cells per unit cell) when given.
   std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id,
                                        std::optional<std::int64_t> cells_per_unit = std::nullopt);
+  // The map's reading of every job of a sweep, in the sweep's order (its export's points).
+  std::vector<PhaseMapPoint> sweep_map(std::int64_t sweep_id);
   std::optional<std::vector<ArtifactInfo>> artifacts(std::int64_t job_id);
   std::optional<Artifact> artifact(std::int64_t job_id, const std::string& name);
   StoreMetrics metrics();

@@ -7,6 +7,7 @@
 
 #include "compaction/params.hpp"
 #include "plan/cost_model.hpp"
+#include "plan/map_points.hpp"
 #include "plan/planner.hpp"
 #include "views/json_opt.hpp"
 #include "views/label_views.hpp"
@@ -38,6 +39,7 @@ struct JsonText {
     if (s.find_first_of(".e") == std::string_view::npos) out += ".0";
   }
   void value(std::int64_t v) { out += std::to_string(v); }
+  void value(bool v) { out += v ? "true" : "false"; }
   void value(const std::string& v) {
     // Printable ASCII without a quote or a backslash is its own JSON text; anything else (an
     // escape, or UTF-8 that may be invalid) goes through the library's writer.
@@ -107,14 +109,16 @@ json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs) {
 json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
   // Where the sweep stands. "planning": nothing pending, but points worth running and budget
   // for them, which the planner is adding (a result has just been stored; the jobs follow in
-  // the next transaction). Once neither is left, the runs decide.
+  // the next transaction). Once neither is left, the runs decide. A point takes its replicates
+  // from the budget at once.
   const std::size_t budget_left = r.spec.budget - std::min(r.spec.budget, r.done + r.pending);
-  const char* state = r.cancelled                                  ? "cancelled"
-                      : r.pending > 0                              ? "running"
-                      : !r.candidates.empty() && budget_left > 0   ? "planning"
-                      : r.resolved                                 ? "resolved"
-                      : budget_left == 0                           ? "budget_spent"
-                                                                   : "unresolved";
+  const bool point_left = budget_left >= r.replicates;
+  const char* state = r.cancelled                                 ? "cancelled"
+                      : r.pending > 0                             ? "running"
+                      : !r.candidates.empty() && point_left       ? "planning"
+                      : r.resolved                                ? "resolved"
+                      : !point_left                               ? "budget_spent"
+                                                                  : "unresolved";
   const adaptive::Steps steps = adaptive::finest_steps(r.spec);
   // The lattice of the finest steps, both ends included: the full grid that resolves every
   // boundary as finely as the sweep does.
@@ -130,15 +134,18 @@ json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
   return {{"id", id},
           {"state", state},
           {"resolved", r.resolved},
+          {"replicates", r.replicates},
           {"runs", {{"done", r.done},
                     {"pending", r.pending},
                     {"budget", r.spec.budget},
                     {"budget_left", budget_left}}},
+          {"points", {{"done", r.points_done}, {"pending", r.points_pending}}},
           {"lattice", {{"step_S_decades", steps.S},
                        {"step_R_decades", steps.R},
                        {"S", n_S},
                        {"R", n_R},
-                       {"points", n_S * n_R}}},
+                       {"points", n_S * n_R},
+                       {"runs", n_S * n_R * static_cast<long long>(r.replicates)}}},
           {"candidates_total", r.candidates.size()},
           {"candidates", candidates}};
 }
@@ -152,6 +159,7 @@ json job(const JobRecord& j) {
               {"cells_per_unit", j.cells_per_unit},
               {"cells_per_strut", j.cells_per_unit * strut_fraction(j.phi)},
               {"eps_end", j.eps_end},
+              {"point_id", j.point_id},
               {"engine_version", j.engine_version},
               {"scene", json::parse(j.scene)},
               {"priority", j.priority},
@@ -198,6 +206,7 @@ json jobs(const Page<JobRecord>& page, int limit, int offset) {
 json job_detail(const JobDetail& d) {
   json j = job(d.job);
   j["sweeps"] = d.sweeps;
+  j["replicates"] = d.replicates;
   j["events"] = json::array();
   for (const EventRecord& e : d.events) {
     j["events"].push_back({{"at", e.at},
@@ -224,6 +233,70 @@ json model(double phi) {
           {"buckling_R", buckling_onset_R(phi)},
           {"nonreflecting_band_speed", nonreflecting_band_speed(phi)}};
 }
+
+namespace {
+
+// A reading's spread over a point's replicates: {mean, n, sd}, or null when no run has it.
+void spread_value(JsonText& t, const std::optional<Spread>& s) {
+  if (!s) {
+    t.out += "null";
+    return;
+  }
+  t.out += '{';
+  t.key("mean").value(s->mean);
+  t.key("n").value(static_cast<std::int64_t>(s->n));
+  t.key("sd").value(s->sd);
+  t.out += '}';
+}
+
+// One point of the map (map_points.hpp), keys sorted as a json object writes them.
+void point_summary(JsonText& t, const MapPoint& p) {
+  const Tally& k = p.tally;
+  t.out += '{';
+  t.key("R").value(p.R);
+  t.key("S").value(p.S);
+  t.key("band_speed_early");
+  spread_value(t, p.band_speed_early);
+  t.key("band_speed_lead");
+  spread_value(t, p.band_speed_lead);
+  t.key("band_speed_ratio");
+  spread_value(t, p.band_speed_ratio);
+  t.key("band_speed_transit");
+  spread_value(t, p.band_speed_transit);
+  t.key("cells_per_strut").value(static_cast<double>(p.cells_per_unit) * strut_fraction(p.phi));
+  t.key("cells_per_unit").value(p.cells_per_unit);
+  t.key("eps_end").value(p.eps_end);
+  t.key("finished").value(static_cast<std::int64_t>(k.finished));
+  t.key("jobs");
+  t.out += '[';
+  for (std::size_t i = 0; i < p.jobs.size(); ++i) {
+    if (i) t.out += ',';
+    t.value(p.jobs[i]);
+  }
+  t.out += ']';
+  t.key("label").value(k.label);
+  t.key("labelled").value(static_cast<std::int64_t>(k.labelled));
+  t.key("n_reflections");
+  spread_value(t, p.n_reflections);
+  t.key("phi").value(p.phi);
+  t.key("point_id").value(p.point_id);
+  t.key("probabilities");
+  t.out += '{';
+  for (const auto& [label, share] : k.probabilities) t.key(label.c_str()).value(share);
+  t.out += '}';
+  t.key("robust").value(k.robust);
+  t.key("runs").value(static_cast<std::int64_t>(k.runs));
+  t.key("share");
+  if (k.label) {
+    t.value(k.share);
+  } else {
+    t.out += "null";
+  }
+  t.key("structure").value(p.structure);
+  t.out += '}';
+}
+
+}  // namespace
 
 std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
   // Keys in the order a json object writes them (sorted).
@@ -261,10 +334,30 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.key("runner_up").value(p.runner_up);
     t.key("state").value(p.state);
     t.key("status").value(p.status);
+    t.key("point_id").value(p.point_id);
+    t.key("progress_eps").value(p.progress_eps);
+    t.key("runner_up").value(p.runner_up);
+    t.key("state").value(p.state);
+    t.key("status").value(p.status);
     t.key("structure").value(p.structure);
     t.out += '}';
   }
-  t.out += "]}";
+  t.out += ']';
+  t.key("summaries");
+  t.out += point_summaries(points);
+  t.out += '}';
+  return t.out;
+}
+
+std::string point_summaries(const std::vector<PhaseMapPoint>& runs) {
+  JsonText t;
+  t.out += '[';
+  const std::vector<MapPoint> points = map_points(runs);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    t.out += i == 0 ? "" : ",";
+    point_summary(t, points[i]);
+  }
+  t.out += ']';
   return t.out;
 }
 

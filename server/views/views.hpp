@@ -29,6 +29,8 @@ nlohmann::json sweep_jobs(const std::vector<JobRecord>& rows);
 // The phase map as JSON text, written directly: 10 000 points as json objects took most of the
 // answer's time (an object per point, a map node per field).
 std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points);
+// The points of these runs (map_points.hpp), as the phase map's "summaries" array: JSON text.
+std::string point_summaries(const std::vector<PhaseMapPoint>& runs);
 // What the model predicts at phi (compaction/params.hpp): the struts' fraction of the unit cell
 // and aspect ratio, the buckling onset R_crit, the non-reflecting band's speed; null outside (0, 1).
 nlohmann::json model(double phi);

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "input/api_error.hpp"
 #include "temp_dir.hpp"
@@ -182,6 +184,58 @@ TEST_F(AdaptiveSweepsTest, ThePlanReportsRunsCandidatesAndTheStateAsTheSweepGoes
   EXPECT_TRUE(r->resolved);
   EXPECT_EQ(r->pending, 0u);
   EXPECT_EQ(views::sweep_plan(id, *r, 20)["state"], "resolved");
+}
+
+TEST_F(AdaptiveSweepsTest, ReplicatesRunEveryPointNTimesAndThePointIsReadByItsMajority) {
+  json body = adaptive_body(600);
+  body["replicates"] = {{"n", 3}, {"perturbation", 0.01}};
+  const std::int64_t id = create(body);
+  EXPECT_EQ(counts(id).total(), 75) << "the initial 5 x 5 grid, 3 runs each";
+  // A noisy field: within a quarter decade of the boundary, the replicate with seed 1 says the
+  // other class (a 1 % perturbation choosing the mechanism); the majority stays the field's.
+  const auto noisy = [](const Lease& lease) {
+    ResultRecord r = labelled_result(lease);
+    const json scene = json::parse(lease.scene);
+    if (std::abs(std::log10(scene["R"].get<double>()) + 3.0) <= 0.25 && scene["seed"] == 1) {
+      r.cls = *r.cls == "a" ? "b" : "a";
+    }
+    return r;
+  };
+  while (const auto lease = store.queue.lease("w", "test-1", ++now)) {
+    QueueStore::FollowUps follow;
+    ASSERT_EQ(store.queue.complete(lease->job_id, lease->token, noisy(*lease), ++now, std::nullopt,
+                                   &follow),
+              LeaseCheck::ok);
+    adaptive.advance_each(store, limits, follow.adaptive_sweeps, now);
+    EXPECT_LE(counts(id).total(), 600) << "the budget counts runs";
+  }
+  const auto jobs = *store.reads.sweep_jobs(id);
+  std::map<std::pair<double, double>, std::set<std::uint64_t>> seeds;
+  for (const auto& j : jobs) seeds[{j.S, j.R}].insert(json::parse(j.scene)["seed"].get<std::uint64_t>());
+  for (const auto& [at, s] : seeds) EXPECT_EQ(s, (std::set<std::uint64_t>{1, 2, 3})) << "every point 3 times";
+  const auto r = AdaptiveSweeps::report(store, limits, id);
+  EXPECT_EQ(r->replicates, 3u);
+  EXPECT_EQ(r->done, jobs.size());
+  EXPECT_EQ(r->points_done * 3, jobs.size());
+  EXPECT_TRUE(r->resolved) << "the majority draws the field's boundary, noise and all";
+  // Growth stayed beside the boundary: the noise did not send points across the map.
+  for (const auto& [at, s] : seeds) {
+    const bool initial = std::abs(std::log10(at.second) - std::round(std::log10(at.second))) < 1e-9;
+    if (!initial) EXPECT_LE(std::abs(std::log10(at.second) + 3.0), 1.0 + 1e-9);
+  }
+  const json plan = views::sweep_plan(id, *r, 5);
+  EXPECT_EQ(plan["replicates"], 3);
+  EXPECT_EQ(plan["lattice"]["runs"], 561 * 3);
+  // The map shows points: near the boundary 2 of 3 agree, away from it all 3.
+  const json map = json::parse(views::phase_map(0.4, store.reads.phase_map(0.4, id)));
+  ASSERT_EQ(map["summaries"].size(), r->points_done);
+  for (const json& pt : map["summaries"]) {
+    EXPECT_EQ(pt["runs"], 3);
+    EXPECT_EQ(pt["label"], label_at(pt["R"].get<double>()));
+    const bool near = std::abs(std::log10(pt["R"].get<double>()) + 3.0) <= 0.25;
+    EXPECT_NEAR(pt["share"].get<double>(), near ? 2.0 / 3.0 : 1.0, 1e-12) << pt.dump();
+    EXPECT_EQ(pt["robust"], !near);
+  }
 }
 
 TEST_F(AdaptiveSweepsTest, ThePlanOfAGridSweepIsRefusedAndOfNoSweepIsNone) {

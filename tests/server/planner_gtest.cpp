@@ -269,12 +269,80 @@ TEST(Planner, StructureAndSeedsAreValidatedWithTheirField) {
       "numerics": {"preset": "default", "structure": "random", "seeds": [1, 2]},
       "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
                    "initial": {"S": 3, "R": 3}, "resolution_decades": 0.5, "budget": 20}})");
-  EXPECT_EQ(error_of(adaptive), std::make_pair(422, std::string("numerics.seeds")));
+  // An adaptive sweep runs each point once per seed: 3 x 3 initial points x 2 seeds = 18 runs,
+  // and its budget counts runs.
+  const SweepPlan twice = plan_sweep(adaptive);
+  EXPECT_EQ(twice.replicates, 2u);
+  ASSERT_EQ(twice.scenes.size(), 18u);
+  EXPECT_EQ(twice.scenes[0].seed, 1u);
+  EXPECT_EQ(twice.scenes[1].seed, 2u);
+  EXPECT_EQ(twice.scenes[0].S, twice.scenes[1].S);
+  const auto more = adaptive_scenes(twice, {{0.01, 1e-3}});
+  ASSERT_EQ(more.size(), 2u);
+  EXPECT_EQ(more[1].seed, 2u);
+  adaptive["adaptive"]["budget"] = 17;
+  EXPECT_EQ(error_of(adaptive), std::make_pair(422, std::string("adaptive.budget")));
+  adaptive["adaptive"]["budget"] = 20;
   adaptive["numerics"]["seeds"] = json::parse("[7]");
   const SweepPlan p = plan_sweep(adaptive);
   ASSERT_FALSE(p.scenes.empty());
   EXPECT_EQ(p.scenes[0].seed, 7u);
   EXPECT_EQ(adaptive_scenes(p, {{0.01, 1e-3}})[0].seed, 7u);
+}
+
+TEST(Planner, ReplicatesRunEachPointWithSeedsOneToNAndTheirPerturbation) {
+  json body = grid();  // 6 points
+  body["replicates"] = {{"n", 4}, {"perturbation", 0.01}};
+  const SweepPlan p = plan_sweep(body);
+  EXPECT_EQ(p.replicates, 4u);
+  ASSERT_EQ(p.scenes.size(), 24u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(p.scenes[i].seed, i + 1);
+    EXPECT_EQ(p.scenes[i].perturbation, 0.01);
+    EXPECT_EQ(p.scenes[i].S, p.scenes[0].S);
+  }
+  // The explicit seeds of the same runs are the same jobs: one concept, two spellings.
+  json seeds = grid();
+  seeds["numerics"]["seeds"] = json::parse("[1, 2, 3, 4]");
+  seeds["numerics"]["perturbation"] = 0.01;
+  const SweepPlan q = plan_sweep(seeds);
+  ASSERT_EQ(q.scenes.size(), p.scenes.size());
+  for (std::size_t i = 0; i < p.scenes.size(); ++i) {
+    EXPECT_EQ(canonical_scene(p.scenes[i]), canonical_scene(q.scenes[i]));
+  }
+  // One replicate of a random structure needs no perturbation.
+  json one = grid();
+  one["numerics"] = {{"preset", "default"}, {"structure", "random"}};
+  one["replicates"] = {{"n", 1}};
+  EXPECT_EQ(plan_sweep(one).scenes.size(), 6u);
+}
+
+TEST(Planner, BadReplicatesAreRefusedWithTheirField) {
+  const auto refused = [](json replicates, const char* field, json numerics = json::object()) {
+    json b = grid();
+    b["replicates"] = replicates;
+    for (const auto& [k, v] : numerics.items()) b["numerics"][k] = v;
+    EXPECT_EQ(error_of(b), std::make_pair(422, std::string(field))) << replicates.dump();
+  };
+  refused(4, "replicates");
+  refused({{"n", 4}, {"perturbation", 0.01}, {"seeds", 3}}, "replicates.seeds");
+  refused({{"perturbation", 0.01}}, "replicates.n");
+  refused({{"n", 0}, {"perturbation", 0.01}}, "replicates.n");
+  refused({{"n", 2.5}, {"perturbation", 0.01}}, "replicates.n");
+  refused({{"n", kMaxSeeds + 1}, {"perturbation", 0.01}}, "replicates.n");
+  refused({{"n", 4}, {"perturbation", 0.6}}, "replicates.perturbation");  // engine: [0, 0.5]
+  refused({{"n", 4}, {"perturbation", -0.01}}, "replicates.perturbation");
+  refused({{"n", 4}, {"perturbation", "1%"}}, "replicates.perturbation");
+  refused({{"n", 4}}, "replicates.perturbation");  // a regular lattice: n copies of one run
+  refused({{"n", 4}, {"perturbation", 0.01}}, "replicates.perturbation", {{"perturbation", 0.02}});
+  refused({{"n", 4}, {"perturbation", 0.01}}, "numerics.seeds", {{"seeds", json::parse("[1, 2]")}});
+  refused({{"n", 4}, {"perturbation", 0.01}}, "numerics.seed", {{"seed", 3}});
+  // points x replicates above the sweep limit: 413 at replicates
+  json b = grid();
+  b["replicates"] = {{"n", 4}, {"perturbation", 0.01}};
+  PlannerLimits limits;
+  limits.max_points = 20;
+  EXPECT_EQ(error_of(b, limits), std::make_pair(413, std::string("replicates")));
 }
 
 TEST(Planner, AnAdaptiveSweepStartsWithItsInitialGridAtItsPhi) {

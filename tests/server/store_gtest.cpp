@@ -7,8 +7,10 @@
 
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "compaction/result.hpp"
+#include "plan/map_points.hpp"
 #include "plan/planner.hpp"
 #include "store/migrations.hpp"
 #include "store/sqlite.hpp"
@@ -452,6 +454,93 @@ TEST(StoreSchema, TheEarlyStageColumnsAreFilledFromTheFeaturesOfEarlierRuns) {
   EXPECT_TRUE(others["band_speed_lead"].is_null()) << "null";
 }
 
+// Migration 0011 on a database written before it: jobs that differ only by their seed share a
+// point, any other difference (S, the perturbation, the engine version) makes another.
+TEST(StoreSchema, ThePointsOfEarlierJobsAreTheirScenesUpToTheSeed) {
+  TempDir dir;
+  {
+    sqlite::Database db(dir.file("db"));
+    std::vector<Migration> before;
+    for (const Migration& m : embedded_migrations()) {
+      if (m.version < 11) before.push_back(m);
+    }
+    apply_migrations(db, before);
+    compaction::SceneParams p;
+    p.perturbation = 0.01;
+    const auto insert = [&](const compaction::SceneParams& scene, const std::string& version) {
+      const NewJob row = job_row(scene, version);
+      db.prepare(
+            "INSERT INTO jobs (identity, scene, engine_version, S, R, phi, cells_per_unit, eps_end,"
+            " run_after, created_at) VALUES (?, ?, ?, ?, ?, ?, ?, ?, 0, 0)")
+          .bind(1, row.identity).bind(2, row.scene).bind(3, version).bind(4, row.S).bind(5, row.R)
+          .bind(6, row.phi).bind(7, row.cells_per_unit).bind(8, row.eps_end).run();
+    };
+    for (std::uint64_t seed : {1, 2, 3}) {  // jobs 1-3: one point
+      p.seed = seed;
+      insert(p, "test-1");
+    }
+    compaction::SceneParams other_S = p;  // job 4
+    other_S.S *= 2;
+    insert(other_S, "test-1");
+    compaction::SceneParams other_perturbation = p;  // job 5
+    other_perturbation.perturbation = 0.02;
+    insert(other_perturbation, "test-1");
+    insert(p, "test-0");  // job 6: another engine version
+  }
+  Store s(dir.file("db"), config());
+  sqlite::Database db(dir.file("db"));
+  auto q = db.prepare("SELECT point_id FROM jobs ORDER BY id");
+  std::vector<std::int64_t> ids;
+  while (q.step()) ids.push_back(q.int64(0));
+  ASSERT_EQ(ids.size(), 6u);
+  EXPECT_EQ(ids[0], ids[1]);
+  EXPECT_EQ(ids[0], ids[2]);
+  EXPECT_EQ(std::set<std::int64_t>(ids.begin() + 2, ids.end()).size(), 4u) << "4 other points";
+  EXPECT_GT(ids[0], 0);
+}
+
+// A sweep's replicates (and an import's jobs: the same trigger) find their point as they are
+// inserted; the map serves the point with its runs.
+TEST_F(StoreTest, ReplicatesShareTheirPointAndTheMapSummarisesThem) {
+  json body = points({0.01, 0.02});
+  body["replicates"] = {{"n", 3}, {"perturbation", 0.01}};
+  const CreatedSweep c = store.sweeps.create(plan(body), t0);
+  ASSERT_EQ(c.n_jobs, 6);
+  // Two replicates of S = 0.01 finish with (a), one with (b); S = 0.02 stays queued.
+  for (const char* cls : {"a", "b", "a"}) {
+    auto l = store.queue.lease("w", "test-1", t0);
+    ASSERT_TRUE(l);
+    ResultRecord r = result_for(store, l->job_id);
+    r.cls = cls;
+    r.band_speed_ratio = *r.cls == "a" ? 2.0 : 5.0;
+    store.queue.complete(l->job_id, l->token, r, t0);
+  }
+  const json map = phase_map_of(store, 0.4, c.id);
+  ASSERT_EQ(map["points"].size(), 6u) << "the runs, as before";
+  ASSERT_EQ(map["summaries"].size(), 2u);
+  const json& done = map["summaries"][0];
+  EXPECT_EQ(done["S"], 0.01);
+  EXPECT_EQ(done["runs"], 3);
+  EXPECT_EQ(done["finished"], 3);
+  EXPECT_EQ(done["label"], "a");
+  EXPECT_NEAR(done["share"].get<double>(), 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(done["probabilities"]["b"].get<double>(), 1.0 / 3.0, 1e-12);
+  EXPECT_EQ(done["robust"], false);
+  // c_b/V over the majority's runs: (a)'s 2.0 twice, not (b)'s 5.0
+  EXPECT_EQ(done["band_speed_ratio"]["mean"], 2.0);
+  EXPECT_EQ(done["band_speed_ratio"]["sd"], 0.0);
+  EXPECT_EQ(done["band_speed_ratio"]["n"], 2);
+  EXPECT_EQ(done["jobs"].size(), 3u);
+  for (const json& run : map["points"]) {
+    const bool mine = std::find(done["jobs"].begin(), done["jobs"].end(), run["job_id"]) != done["jobs"].end();
+    EXPECT_EQ(run["point_id"] == done["point_id"], mine);
+  }
+  const json& queued = map["summaries"][1];
+  EXPECT_EQ(queued["finished"], 0);
+  EXPECT_TRUE(queued["label"].is_null());
+  EXPECT_TRUE(queued["share"].is_null());
+}
+
 TEST(StoreSchema, AnEditedMigrationIsRefused) {
   TempDir dir;
   { Store s(dir.file("db"), config()); }
@@ -572,9 +661,32 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
                      {"cells_per_unit", p.cells_per_unit},
                      {"cells_per_strut", p.cells_per_unit * compaction::strut_fraction(p.phi)},
                      {"eps_end", p.eps_end}, {"progress_eps", opt(p.progress_eps)},
-                     {"human_label", opt(p.human_label)}, {"structure", p.structure}});
+                     {"human_label", opt(p.human_label)}, {"structure", p.structure},
+                     {"point_id", p.point_id}});
     }
-    return json{{"model", views::model(phi)}, {"phi", phi}, {"points", out}}
+    const auto spread_json = [](const std::optional<Spread>& s) {
+      return s ? json{{"mean", s->mean}, {"n", s->n}, {"sd", s->sd ? json(*s->sd) : json(nullptr)}}
+               : json(nullptr);
+    };
+    json summaries = json::array();
+    for (const MapPoint& m : map_points(points)) {
+      json probabilities = json::object();
+      for (const auto& [label, share] : m.tally.probabilities) probabilities[label] = share;
+      summaries.push_back(
+          {{"point_id", m.point_id}, {"S", m.S}, {"R", m.R}, {"phi", m.phi}, {"eps_end", m.eps_end},
+           {"cells_per_unit", m.cells_per_unit},
+           {"cells_per_strut", m.cells_per_unit * compaction::strut_fraction(m.phi)},
+           {"structure", m.structure}, {"jobs", m.jobs}, {"runs", m.tally.runs},
+           {"finished", m.tally.finished}, {"labelled", m.tally.labelled},
+           {"probabilities", probabilities}, {"label", opt(m.tally.label)},
+           {"share", m.tally.label ? json(m.tally.share) : json(nullptr)},
+           {"robust", m.tally.robust}, {"band_speed_ratio", spread_json(m.band_speed_ratio)},
+           {"band_speed_early", spread_json(m.band_speed_early)},
+           {"band_speed_lead", spread_json(m.band_speed_lead)},
+           {"band_speed_transit", spread_json(m.band_speed_transit)},
+           {"n_reflections", spread_json(m.n_reflections)}});
+    }
+    return json{{"model", views::model(phi)}, {"phi", phi}, {"points", out}, {"summaries", summaries}}
         .dump(-1, ' ', false, json::error_handler_t::replace);
   };
   PhaseMapPoint done;
@@ -584,12 +696,17 @@ TEST(PhaseMapView, TheWrittenTextReadsAsWhatJsonObjectsWouldWrite) {
   done.band_speed_transit = -0.5, done.band_speed_transit_error = 12345678.0;
   done.band_speed_early = 2.14, done.band_speed_early_error = 1e-12, done.band_speed_lead = 2.79;
   done.n_reflections = 3, done.progress_eps = 0.2, done.job_id = 42, done.cells_per_unit = 20;
-  done.human_label = "c", done.structure = "random";
+  done.human_label = "c", done.structure = "random", done.point_id = 5;
   PhaseMapPoint queued;
   queued.S = 0.001 + 1e-4 * 7 + (0.09 - 0.001) / 49 * 13, queued.R = 1.0 / 3.0, queued.phi = 0.55, queued.eps_end = 1;
   queued.state = "queued", queued.job_id = 7, queued.cells_per_unit = 8;
   queued.runner_up = "tab\there\x7f";  // only a control character to escape
-  for (const auto& points : {std::vector<PhaseMapPoint>{}, std::vector<PhaseMapPoint>{done, queued}}) {
+  queued.point_id = 9;
+  PhaseMapPoint replicate = done;  // a second run of done's point, unlabelled by a person
+  replicate.job_id = 43, replicate.human_label.reset(), replicate.cls = "c";
+  replicate.band_speed_ratio = 1.9, replicate.band_speed_early.reset(), replicate.n_reflections = 4;
+  for (const auto& points : {std::vector<PhaseMapPoint>{}, std::vector<PhaseMapPoint>{done, queued},
+                             std::vector<PhaseMapPoint>{done, queued, replicate}}) {
     // The same keys, order and values (doubles compared exactly); a number's text may be
     // shorter than nlohmann's, never another double.
     EXPECT_EQ(json::parse(views::phase_map(0.4, points)).dump(), json::parse(slow(0.4, points)).dump());
