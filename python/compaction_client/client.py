@@ -97,6 +97,41 @@ def _point(i, p):
     return {"S": values[0], "R": values[1], "phi": values[2]}
 
 
+def _replicates(value):
+    # (n, perturbation), {"n", "perturbation"} or n alone (a random structure needs no
+    # perturbation): the request's "replicates" object.
+    if isinstance(value, Mapping):
+        return dict(value)
+    if isinstance(value, (tuple, list)):
+        if len(value) != 2:
+            raise ValueError("replicates: expected (n, perturbation), got %d values" % len(value))
+        return {"n": value[0], "perturbation": value[1]}
+    return {"n": value}
+
+
+CLASSES = ("a", "b", "c", "d", "e", "f")
+SPREAD_READINGS = ("band_speed_ratio", "band_speed_early", "band_speed_lead",
+                   "band_speed_transit", "n_reflections")
+POINT_COLUMNS = (["point_id", "S", "R", "phi", "cells_per_unit", "cells_per_strut", "eps_end",
+                  "structure", "runs", "finished", "labelled", "label", "share", "robust"]
+                 + ["p_" + c for c in CLASSES]
+                 + [r + suffix for r in SPREAD_READINGS for suffix in ("_mean", "_sd", "_n")]
+                 + ["jobs"])
+
+
+def _point_row(point):
+    # A point of the server's answer as flat columns (POINT_COLUMNS).
+    row = {k: point[k] for k in POINT_COLUMNS if k in point}
+    for c in CLASSES:
+        row["p_" + c] = point["probabilities"].get(c, 0.0)
+    for r in SPREAD_READINGS:
+        spread = point.get(r) or {}
+        row[r + "_mean"] = spread.get("mean")
+        row[r + "_sd"] = spread.get("sd")
+        row[r + "_n"] = spread.get("n", 0)
+    return {k: row.get(k) for k in POINT_COLUMNS}
+
+
 def _id(sweep_or_id):
     # A sweep as the server answers it ({"id": ...}) or its id.
     return sweep_or_id["id"] if isinstance(sweep_or_id, Mapping) else sweep_or_id
@@ -191,25 +226,27 @@ class Client:
     # One submit method per body form that POST /sweeps takes: a grid, explicit points, an
     # adaptive sweep.
     def submit_grid(self, name, S, R, phi, preset=None, numerics=None, priority=None,
-                    max_attempts=None):
+                    max_attempts=None, replicates=None):
         """Submits the grid S x R x phi. Each axis is a number, a list of numbers or
         log_axis(lo, hi, n) / linear_axis(lo, hi, n). preset: "fast", "default" or "reference"
         (None: the server's default); numerics: further numerics keys (cells_per_unit,
-        eps_end, ...) over the preset. Returns the created sweep (its "id", "counts" and
-        "created": how many jobs are new, reused, shared or requeued)."""
+        eps_end, ...) over the preset. replicates: (n, perturbation) runs each point n times,
+        seeds 1..n, the particles perturbed by that fraction of their spacing (or a dict
+        {"n", "perturbation"}; docs/replicates.md). Returns the created sweep (its "id",
+        "counts" and "created": how many jobs are new, reused, shared or requeued)."""
         body = {"name": name, "S": _axis(S), "R": _axis(R), "phi": _axis(phi)}
-        return self._submit(body, preset, numerics, priority, max_attempts)
+        return self._submit(body, preset, numerics, priority, max_attempts, replicates)
 
     def submit_points(self, name, points, preset=None, numerics=None, priority=None,
-                      max_attempts=None):
+                      max_attempts=None, replicates=None):
         """Submits explicit points: each {"S", "R", "phi"} or a tuple (S, R, phi). The other
         arguments are those of submit_grid."""
         body = {"name": name, "points": [_point(i, p) for i, p in enumerate(points)]}
-        return self._submit(body, preset, numerics, priority, max_attempts)
+        return self._submit(body, preset, numerics, priority, max_attempts, replicates)
 
     def submit_adaptive(self, name, phi, S, R, initial=None, resolution_decades=None,
                         budget=None, in_flight=None, preset=None, numerics=None, priority=None,
-                        max_attempts=None):
+                        max_attempts=None, replicates=None):
         """Submits an adaptive sweep at one phi over the box S = (min, max), R = (min, max):
         an initial log grid of initial = (points in S, points in R), refined where labels
         differ down to resolution_decades, at most budget runs in all and in_flight queued or
@@ -225,9 +262,9 @@ class Client:
             if value is not None:
                 spec[key] = value
         body = {"name": name, "phi": phi, "adaptive": spec}
-        return self._submit(body, preset, numerics, priority, max_attempts)
+        return self._submit(body, preset, numerics, priority, max_attempts, replicates)
 
-    def _submit(self, body, preset, numerics, priority, max_attempts):
+    def _submit(self, body, preset, numerics, priority, max_attempts, replicates=None):
         numerics = dict(numerics or {})
         if preset is not None:
             if "preset" in numerics and numerics["preset"] != preset:
@@ -240,6 +277,8 @@ class Client:
             body["priority"] = priority
         if max_attempts is not None:
             body["max_attempts"] = max_attempts
+        if replicates is not None:
+            body["replicates"] = _replicates(replicates)
         return self._json("POST", "/sweeps", body, write=True)
 
     def sweeps(self):
@@ -311,14 +350,32 @@ class Client:
                       frame, "results()")
 
     def phase_map(self, phi, sweep=None, frame=True):
-        """The phase map at one phi (of every sweep, or of one): a point per job with S, R,
-        state, class, confidence, runner_up, n_reflections, band_speed_ratio, job_id, status,
-        ... A pandas DataFrame (ImportError without pandas); frame=False gives a list of
-        dicts."""
+        """The runs of the phase map at one phi (of every sweep, or of one): a row per job with
+        S, R, state, class, confidence, runner_up, n_reflections, band_speed_ratio, job_id,
+        point_id, status, ... A pandas DataFrame (ImportError without pandas); frame=False
+        gives a list of dicts. points() reads a point's replicates together."""
         query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep)}
         points = self._json("GET", "/phase-map", query=query)["points"]
         columns = list(points[0]) if points else ["S", "R", "phi", "state", "class", "job_id"]
         return _frame(points, columns, frame, "phase_map()")
+
+    def points(self, phi=None, sweep=None, frame=True):
+        """The map's points: a row per point (a computation up to its seed: its replicates
+        read together, docs/replicates.md) with point_id, S, R, phi, cells_per_unit, runs,
+        finished, labelled, label (the majority), share, robust, p_a .. p_f (each class's
+        share) and each band-speed reading as <name>_mean, <name>_sd, <name>_n. At one phi (of
+        every sweep, or of one), or of one sweep at every phi (phi=None). A pandas DataFrame
+        (ImportError without pandas); frame=False gives a list of dicts."""
+        if phi is None:
+            if sweep is None:
+                raise ValueError("points(): give phi, sweep or both")
+            summaries = self._json("GET", "/sweeps/%d/export" % _id(sweep),
+                                   query={"format": "json"})["points"]
+        else:
+            query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep)}
+            summaries = self._json("GET", "/phase-map", query=query)["summaries"]
+        rows = [_point_row(p) for p in summaries]
+        return _frame(rows, POINT_COLUMNS, frame, "points()")
 
     def regions(self, phi, sweep=None, cells_per_unit=None, grid=None):
         """The classes the labelled runs predict over the map at phi, with an uncertainty per
