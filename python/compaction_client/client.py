@@ -246,19 +246,22 @@ class Client:
 
     def submit_adaptive(self, name, phi, S, R, initial=None, resolution_decades=None,
                         budget=None, in_flight=None, preset=None, numerics=None, priority=None,
-                        max_attempts=None, replicates=None):
+                        max_attempts=None, replicates=None, levels=None, budget_cpu_hours=None):
         """Submits an adaptive sweep at one phi over the box S = (min, max), R = (min, max):
         an initial log grid of initial = (points in S, points in R), refined where labels
         differ down to resolution_decades, at most budget runs in all and in_flight queued or
         running at once. What is None takes the server's default (GET /api/v1/limits,
         "adaptive": 5 x 5 points, an eighth of a decade, 200 runs). The other arguments are
         those of submit_grid. The sweep's counts grow as the server adds points
-        (docs/adaptive.md)."""
+        (docs/adaptive.md). levels: numerics coarse to fine ([{"preset": "default"},
+        {"cells_per_strut": 8}]) and budget_cpu_hours a budget by the cost model: the map
+        then spends replicates and finer levels where its labels disagree."""
         spec = {"S": {"min": S[0], "max": S[1]}, "R": {"min": R[0], "max": R[1]}}
         if initial is not None:
             spec["initial"] = {"S": initial[0], "R": initial[1]}
         for key, value in (("resolution_decades", resolution_decades), ("budget", budget),
-                           ("in_flight", in_flight)):
+                           ("in_flight", in_flight), ("levels", levels),
+                           ("budget_cpu_hours", budget_cpu_hours)):
             if value is not None:
                 spec[key] = value
         body = {"name": name, "phi": phi, "adaptive": spec}

@@ -309,7 +309,9 @@ Walk walk(const State& st) {
 
 AdaptiveSpec parse_spec(const json& a, std::size_t max_points, const std::string& field) {
   if (!a.is_object()) invalid(field, "must be an object, got " + describe(a));
-  only_keys(a, field, {"S", "R", "initial", "resolution_decades", "budget", "in_flight"});
+  // levels and budget_cpu_hours name scenes: the planner reads them (planner.cpp).
+  only_keys(a, field, {"S", "R", "initial", "resolution_decades", "budget", "in_flight", "levels",
+                       "budget_cpu_hours"});
   AdaptiveSpec spec;
   spec.S = parse_axis(required(a, field, "S"), field + ".S", limits::S);
   spec.R = parse_axis(required(a, field, "R"), field + ".R", limits::R);
@@ -414,6 +416,23 @@ std::vector<Point> next_points(const AdaptiveSpec& spec, const std::vector<Label
 bool resolved(const AdaptiveSpec& spec, const std::vector<Labelled>& done) {
   const State st(spec, done, {});
   return !walk(st).unresolved;
+}
+
+LatticeShape lattice_shape(const AdaptiveSpec& spec) {
+  const Lattice L(spec);
+  return {L.width_S, L.width_R, L.nodes_S, L.nodes_R};
+}
+
+std::optional<LatticeNode> lattice_node(const AdaptiveSpec& spec, Point p) {
+  const auto n = node_of(Lattice(spec), p);
+  if (!n) return std::nullopt;
+  return LatticeNode{n->first, n->second};
+}
+
+std::optional<Point> lattice_point(const AdaptiveSpec& spec, LatticeNode n) {
+  const Lattice L(spec);
+  if (n.i < 0 || n.j < 0 || n.i > L.nodes_S || n.j > L.nodes_R) return std::nullopt;
+  return point_at(spec, L, {n.i, n.j});
 }
 
 }  // namespace compaction::server::adaptive

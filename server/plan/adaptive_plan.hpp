@@ -15,6 +15,7 @@
 // (larger S: a run costs about 1/S).
 #pragma once
 
+#include <compare>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -35,6 +36,8 @@ inline constexpr long long kMinInitialPerAxis = 2;            // the box's two c
 inline constexpr long long kDefaultInitialPerAxis = 5;
 inline constexpr double kDefaultResolutionDecades = 0.125;
 inline constexpr long long kDefaultBudget = 200;
+// The most levels of numerics an adaptive sweep may name ("levels", levels_plan.hpp).
+inline constexpr std::size_t kMaxLevels = 4;
 
 // Weights of a cell's disagreement (value = weight x the cell's longer side in decades).
 // Two labels differ: the boundary the map is drawn for.
@@ -120,6 +123,21 @@ std::vector<Proposal> ranked_candidates(const AdaptiveSpec& spec, const std::vec
 // failed or not: retries are the queue's business.
 std::vector<Point> next_points(const AdaptiveSpec& spec, const std::vector<Labelled>& done,
                                const std::vector<Point>& pending, std::size_t how_many);
+
+// The node of the finest lattice a point sits on (i finest steps along log S and j along log R
+// from the box's lower corner), if it sits on one inside the box; and the point of a node,
+// none outside the box. The levels planner (levels_plan.hpp) walks the lattice with these.
+struct LatticeNode {
+  long long i = 0, j = 0;
+  auto operator<=>(const LatticeNode&) const = default;
+};
+std::optional<LatticeNode> lattice_node(const AdaptiveSpec& spec, Point p);
+// An initial cell's sides and the box's, in finest steps (the quadtree's roots and its extent).
+struct LatticeShape {
+  long long width_S = 1, width_R = 1, nodes_S = 0, nodes_R = 0;
+};
+LatticeShape lattice_shape(const AdaptiveSpec& spec);
+std::optional<Point> lattice_point(const AdaptiveSpec& spec, LatticeNode n);
 
 // Whether the boundaries are found to the finest step: every initial point is done and no cell
 // whose labels disagree (two labels, or a label and an unknown) is still larger than the finest

@@ -1,8 +1,9 @@
 // Adaptive sweeps as the server runs them: when one is created, whenever one of its jobs ends,
 // and at start, the adaptive planner (adaptive_plan.hpp) is asked where to run next, and the
-// points it proposes join the sweep as jobs, each point once per replicate. The planner reads a
-// point when all its replicates have finished, with their majority label and a confidence
-// lowered by their disagreement (point_tally.hpp); the budget and in_flight count runs. The sweep's stored request is the one home of its
+// runs it proposes join the sweep as jobs: the levels planner (levels_plan.hpp) over the
+// sweep's levels of numerics (one without "levels") and its replicates (one without them), so
+// that an adaptive sweep without either plans as adaptive_plan.hpp alone does. The budget and
+// in_flight count runs. The sweep's stored request is the one home of its
 // box, budget and numerics; its jobs' states and labels are what the planner reads.
 #pragma once
 
@@ -19,17 +20,30 @@
 
 namespace compaction::server {
 
+// One level of numerics of an adaptive sweep as it stands: its grid, the points run at it and
+// how many of them are robust (point_tally.hpp), its runs, and what the planner would queue
+// next at it (the next in_flight runs) with the cost model's CPU seconds.
+struct LevelReport {
+  std::int64_t cells_per_unit = 0;
+  std::size_t points = 0, robust = 0;
+  std::size_t runs_done = 0, runs_pending = 0;
+  double cpu_seconds_done = 0, cpu_seconds_pending = 0;
+  std::size_t next_runs = 0;
+  double next_cpu_seconds = 0;
+};
+
 // What the planner sees of an adaptive sweep now (GET /api/v1/sweeps/{id}/plan).
 struct PlanReport {
   adaptive::AdaptiveSpec spec;  // as requested: its budget and in_flight count runs
-  std::size_t replicates = 1;   // runs per point
+  std::size_t replicates = 1;   // the most runs of a point at one level
+  double budget_cpu_seconds = 0;  // infinite without one
   std::size_t done = 0;     // finished runs: succeeded, failed for good or cancelled
   std::size_t pending = 0;  // queued or running
-  std::size_t points_done = 0;     // points whose every replicate finished
-  std::size_t points_pending = 0;  // points with a replicate queued or running
+  double cpu_seconds = 0;   // the cost model's, of the runs done and pending
   bool cancelled = false;
-  bool resolved = false;    // adaptive::resolved over the finished runs
-  std::vector<adaptive::Proposal> candidates;  // every point worth running now, best first
+  bool resolved = false;    // adaptive::levels_resolved over the finished runs
+  std::vector<adaptive::LevelAction> candidates;  // every run worth queueing now, best first
+  std::vector<LevelReport> levels;                // coarse to fine
 };
 
 class AdaptiveSweeps {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <set>
 
 #include "compaction/bundle.hpp"
@@ -13,6 +14,7 @@
 #include "input/api_error.hpp"
 #include "input/json_input.hpp"
 #include "input/safe_text.hpp"
+#include "plan/cost_model.hpp"
 #include "plan/round_significant.hpp"
 
 namespace compaction::server {
@@ -27,6 +29,11 @@ const std::set<std::string> numerics_keys = {
     "movie_d_eps",
     "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "pore_contact", "perturbation", "seed",
     "structure", "seeds"};
+
+// Numerics keys a level of an adaptive sweep may set: what sets the resolution and the transfer.
+const std::set<std::string> level_keys = {"preset", "cells_per_strut", "cells_per_unit",
+                                          "particles_per_cell", "cfl", "transfer", "flip_ratio",
+                                          "pore_contact"};
 
 const std::set<std::string> request_keys = {"name",     "points",       "S",       "R",
                                             "phi",      "numerics",     "priority", "max_attempts",
@@ -121,11 +128,12 @@ std::vector<std::uint64_t> read_replicates(const json& r, json& numerics) {
   return seeds;
 }
 
-// The scene every point starts from: preset, then the explicit numerics over it; `seeds` the
-// seeds each point runs with, one run per seed (replicates, or numerics.seeds; empty without
-// them: each point runs once with the scene's seed).
-SceneParams base_scene(const json& body, std::string& preset_name,
-                       std::vector<std::uint64_t>& seeds) {
+// A request's numerics as one JSON object of scene keys: the preset's values, then the explicit
+// keys over them (threads 1); `seeds` the seeds each point runs with, one run per seed
+// (replicates, or numerics.seeds; empty without them: each point runs once with the scene's
+// seed); `explicit_keys` the request's own numerics (without preset and seeds).
+json merged_numerics(const json& body, std::string& preset_name, std::vector<std::uint64_t>& seeds,
+                     json& explicit_keys) {
   json numerics = json::object();
   if (body.contains("numerics")) {
     numerics = body["numerics"];
@@ -151,17 +159,31 @@ SceneParams base_scene(const json& body, std::string& preset_name,
     preset_name = p.get<std::string>();
     numerics.erase("preset");
   }
-  SceneParams scene;
-  // The preset's values, then the explicit keys over them. Here only their types: the ranges
-  // (some depend on phi) are validated once, per point, with the point's S, R and phi.
+  explicit_keys = numerics;
   json merged = compaction::preset_json(*compaction::find_preset(preset_name));
   for (const auto& [key, value] : numerics.items()) merged[key] = value;
   merged["threads"] = 1;
+  return merged;
+}
+
+// A scene from merged numerics: their types only, here; the ranges (some depend on phi) are
+// validated once, per point, with the point's S, R and phi. Errors are named `prefix` + key.
+SceneParams read_scene(const json& merged, const std::string& prefix) {
+  SceneParams scene;
   if (std::vector<FieldError> errors = read_json(merged, scene); !errors.empty()) {
     std::vector<FieldError> named;
-    for (auto& e : errors) named.push_back({"numerics." + e.field, e.message});
+    for (auto& e : errors) named.push_back({prefix + e.field, e.message});
     throw ApiError(422, std::move(named));
   }
+  return scene;
+}
+
+// The scene every point starts from: preset, then the explicit numerics over it; `seeds` as
+// merged_numerics says.
+SceneParams base_scene(const json& body, std::string& preset_name,
+                       std::vector<std::uint64_t>& seeds) {
+  json explicit_keys;
+  const SceneParams scene = read_scene(merged_numerics(body, preset_name, seeds, explicit_keys), "numerics.");
   if (seeds.size() > 1 && scene.structure == Structure::regular && scene.perturbation == 0.0) {
     if (body.contains("replicates")) {
       invalid("replicates.perturbation",
@@ -327,24 +349,35 @@ NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version) {
   return out;
 }
 
+SceneParams level_scene(const SweepPlan& plan, int level, adaptive::Point at) {
+  SceneParams p = plan.levels.at(static_cast<std::size_t>(level));
+  p.S = at.S, p.R = at.R, p.phi = plan.adaptive_phi;
+  p.pore_contact = resolved_pore_contact(p);
+  return p;
+}
+
+double run_cpu_seconds(const SweepPlan& plan, adaptive::Point at, int level) {
+  return cost::cpu_seconds(level_scene(plan, level, at));
+}
+
+adaptive::LevelsSpec levels_spec(const SweepPlan& plan) {
+  adaptive::LevelsSpec spec;
+  spec.box = *plan.adaptive;
+  spec.levels = static_cast<int>(plan.levels.size());
+  spec.replicates = plan.replicates;
+  spec.budget_cpu_seconds = plan.budget_cpu_seconds;
+  return spec;
+}
+
 std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
-                                         const std::vector<adaptive::Point>& points,
+                                         const std::vector<adaptive::LevelAction>& actions,
                                          const PlannerLimits& limits) {
-  std::string preset;
-  std::vector<std::uint64_t> seeds;
-  const SceneParams base = base_scene(plan.request, preset, seeds);
-  const double phi = plan.scenes.empty() ? base.phi : plan.scenes.front().phi;
   std::vector<SceneParams> out;
-  for (const adaptive::Point& pt : points) {
-    SceneParams p = make_scene(base, pt.S, pt.R, phi, "", limits);
-    if (seeds.empty()) {
-      out.push_back(p);
-      continue;
-    }
-    for (std::uint64_t seed : seeds) {
-      p.seed = seed;
-      out.push_back(p);
-    }
+  for (const adaptive::LevelAction& a : actions) {
+    SceneParams p = make_scene(plan.levels.at(static_cast<std::size_t>(a.level)), a.point.S,
+                               a.point.R, plan.adaptive_phi, "", limits);
+    if (!plan.seeds.empty()) p.seed = plan.seeds.at(a.replicate);
+    out.push_back(std::move(p));
   }
   return out;
 }
@@ -392,14 +425,108 @@ struct SceneList {
     }
   }
 
- private:
   void add_one(SceneParams p) {
     if (seen.insert(canonical_scene(p)).second) plan.scenes.push_back(std::move(p));
   }
 };
 
-// A box of S and R at one phi, from which the sweep grows (adaptive_plan.hpp): the initial grid
-// now, the rest as results arrive (adaptive_sweeps.hpp).
+// An error of a level's scene named after the level: "numerics.cells_per_strut" from its
+// validation becomes "adaptive.levels[1].cells_per_strut".
+[[noreturn]] void rethrow_for_level(const ApiError& e, const std::string& field) {
+  std::vector<FieldError> named;
+  const auto rename = [&](const std::string& f) {
+    return f.rfind("numerics.", 0) == 0 ? field + "." + f.substr(9) : field + "." + f;
+  };
+  if (e.details.empty()) throw ApiError(e.status, rename(e.field), e.what());
+  for (const FieldError& d : e.details) named.push_back({rename(d.field), d.message});
+  throw ApiError(e.status, std::move(named));
+}
+
+// The scenes of an adaptive sweep's levels, coarse to fine (the sweep's own numerics alone
+// without "levels"): each level's keys over the sweep's numerics, or over its own preset with
+// the sweep's explicit keys; each validated at `probe` and strictly finer than the one before.
+std::vector<SceneParams> level_scenes(const json& body, const SceneParams& base, double phi,
+                                      adaptive::Point probe, const PlannerLimits& limits) {
+  const json& spec = body["adaptive"];
+  if (!spec.contains("levels")) return {base};
+  const json& levels = spec["levels"];
+  if (!levels.is_array() || levels.empty() || levels.size() > adaptive::kMaxLevels) {
+    invalid("adaptive.levels", "must be an array of 1 to " + std::to_string(adaptive::kMaxLevels) +
+                                   " levels of numerics, coarse to fine, got " + describe(levels));
+  }
+  std::string preset;
+  std::vector<std::uint64_t> seeds;
+  json explicit_keys;
+  const json merged = merged_numerics(body, preset, seeds, explicit_keys);
+  std::vector<SceneParams> out;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const std::string field = "adaptive.levels[" + std::to_string(i) + "]";
+    const json& level = levels[i];
+    if (!level.is_object()) invalid(field, "must be an object of numerics, got " + describe(level));
+    for (const auto& [key, value] : level.items()) {
+      if (!level_keys.count(key)) {
+        invalid(field + "." + key, "unknown level key (a level sets the resolution: preset, "
+                                   "cells_per_strut, cells_per_unit, particles_per_cell, cfl, "
+                                   "transfer, flip_ratio, pore_contact)");
+      }
+    }
+    json m = merged;
+    if (level.contains("preset")) {
+      const json& p = level["preset"];
+      if (!p.is_string() || !compaction::find_preset(p.get<std::string>())) {
+        invalid(field + ".preset", "must be one of " + compaction::preset_names() + ", got " + describe(p));
+      }
+      m = compaction::preset_json(*compaction::find_preset(p.get<std::string>()));
+      for (const auto& [key, value] : explicit_keys.items()) m[key] = value;
+      m["threads"] = 1;
+    }
+    for (const auto& [key, value] : level.items()) {
+      if (key != "preset") m[key] = value;
+    }
+    SceneParams scene = read_scene(m, field + ".");
+    if (!seeds.empty()) scene.seed = seeds.front();
+    try {
+      make_scene(scene, probe.S, probe.R, phi, "", limits);
+    } catch (const ApiError& e) {
+      rethrow_for_level(e, field);
+    }
+    SceneParams at_phi = scene;
+    at_phi.phi = phi;
+    if (!out.empty()) {
+      SceneParams coarser = out.back();
+      coarser.phi = phi;
+      if (at_phi.grid_cells_per_unit() <= coarser.grid_cells_per_unit()) {
+        invalid(field, "must be finer than the level before it (" +
+                           std::to_string(coarser.grid_cells_per_unit()) +
+                           " grid cells per unit cell), got " +
+                           std::to_string(at_phi.grid_cells_per_unit()));
+      }
+    }
+    out.push_back(std::move(scene));
+  }
+  return out;
+}
+
+// adaptive.budget_cpu_hours: a positive number of CPU-hours, at least what the initial grid costs
+// at the coarsest level (by the cost model); none: no limit but the budget in runs.
+double cpu_budget(const json& spec, double initial_cpu_seconds) {
+  if (!spec.contains("budget_cpu_hours")) return std::numeric_limits<double>::infinity();
+  const json& v = spec["budget_cpu_hours"];
+  if (!finite_number(v) || !(v.get<double>() > 0)) {
+    invalid("adaptive.budget_cpu_hours", "must be a positive number of CPU-hours, got " + describe(v));
+  }
+  const double seconds = v.get<double>() * 3600.0;
+  if (seconds < initial_cpu_seconds) {
+    invalid("adaptive.budget_cpu_hours",
+            "must cover the initial grid at the first level, " + num(initial_cpu_seconds / 3600.0) +
+                " CPU-hours by the cost model, got " + num(v.get<double>()));
+  }
+  return seconds;
+}
+
+// A box of S and R at one phi, from which the sweep grows (adaptive_plan.hpp, levels_plan.hpp):
+// the initial grid now, one run a point at the coarsest level; the rest as results arrive
+// (adaptive_sweeps.hpp).
 void plan_adaptive(const json& body, const SceneParams& base, SceneList& scenes) {
   SweepPlan& plan = scenes.plan;
   for (const char* key : {"points", "S", "R"}) {
@@ -413,23 +540,27 @@ void plan_adaptive(const json& body, const SceneParams& base, SceneList& scenes)
     invalid("phi", "an adaptive sweep maps one phi, got " + std::to_string(phi.size()) + " values");
   }
   plan.adaptive = adaptive::parse_spec(body["adaptive"], scenes.limits.max_points);
-  // The budget counts runs: each point's replicates are runs of their own.
+  plan.adaptive_phi = phi[0];
+  plan.seeds = scenes.seeds;
   const std::size_t n_initial = adaptive::initial_points(*plan.adaptive).size();
-  if (n_initial * scenes.per_point() > plan.adaptive->budget) {
-    invalid("adaptive.budget", "must cover the initial grid's " + std::to_string(n_initial) +
-                                   " points x " + std::to_string(scenes.per_point()) +
-                                   " replicates, got " + std::to_string(plan.adaptive->budget));
+  const auto initial = adaptive::next_points(*plan.adaptive, {}, {}, n_initial);
+  plan.levels = level_scenes(body, base, phi[0], initial.front(), scenes.limits);
+  // The initial grid in the planner's order (cheapest first, as every later point): the
+  // queue runs a sweep's jobs in the order they were added. One run a point: replicates and
+  // finer levels follow where the map asks for them.
+  double initial_cpu = 0;
+  for (const adaptive::Point& pt : initial) {
+    SceneParams p = make_scene(plan.levels.front(), pt.S, pt.R, phi[0], "", scenes.limits);
+    if (!plan.seeds.empty()) p.seed = plan.seeds.front();
+    initial_cpu += cost::cpu_seconds(p);
+    scenes.add_one(std::move(p));
   }
+  plan.budget_cpu_seconds = cpu_budget(body["adaptive"], initial_cpu);
   // The stored request says what the sweep does: the defaults it took written in.
   json& spec = plan.request["adaptive"];
   spec["initial"] = {{"S", plan.adaptive->initial_S}, {"R", plan.adaptive->initial_R}};
   spec["resolution_decades"] = plan.adaptive->resolution_decades;
   spec["budget"] = plan.adaptive->budget;
-  // The initial grid in the planner's order (cheapest first, as every later point): the
-  // queue runs a sweep's jobs in the order they were added.
-  for (const adaptive::Point& pt : adaptive::next_points(*plan.adaptive, {}, {}, n_initial)) {
-    scenes.add(make_scene(base, pt.S, pt.R, phi[0], "", scenes.limits));
-  }
 }
 
 // An explicit list of points, each {S, R, phi}.

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,6 +36,7 @@
 
 #include "compaction/params.hpp"
 #include "plan/adaptive_plan.hpp"
+#include "plan/levels_plan.hpp"
 #include "store/sweep_store.hpp"
 
 namespace compaction::server {
@@ -61,6 +63,13 @@ struct SweepPlan {
   std::vector<SceneParams> scenes;  // distinct, in request order (an adaptive sweep's first grid)
   nlohmann::json request;           // the body as accepted
   std::optional<adaptive::AdaptiveSpec> adaptive;  // set for an adaptive sweep
+  // An adaptive sweep's levels of numerics, coarse to fine (S, R and phi set per run; one level
+  // without "levels"), its phi, the seeds of its replicates (replicate r runs with seeds[r];
+  // empty: the scene's own seed) and its budget in CPU seconds (infinite without one).
+  std::vector<SceneParams> levels;
+  double adaptive_phi = 0;
+  std::vector<std::uint64_t> seeds;
+  double budget_cpu_seconds = std::numeric_limits<double>::infinity();
 };
 
 SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {});
@@ -70,11 +79,15 @@ SweepPlan plan_sweep(const nlohmann::json& body, const PlannerLimits& limits = {
 NewSweep sweep_rows(const SweepPlan& plan, const std::string& engine_version);
 NewJob job_row(const SceneParams& p, const std::string& engine_version);
 
-// The scenes of further points of an adaptive sweep, from its stored request (its numerics,
-// replicates and phi), in the order given, each point once per replicate seed.
+// An adaptive sweep's runs: the scenes of the planner's actions (each its level's numerics at its
+// point, with the seed of its replicate), validated; the scene of a level at a point without
+// validation, and the cost model's CPU seconds of its run; the planner's spec.
 std::vector<SceneParams> adaptive_scenes(const SweepPlan& plan,
-                                         const std::vector<adaptive::Point>& points,
+                                         const std::vector<adaptive::LevelAction>& actions,
                                          const PlannerLimits& limits = {});
+SceneParams level_scene(const SweepPlan& plan, int level, adaptive::Point at);
+double run_cpu_seconds(const SweepPlan& plan, adaptive::Point at, int level);
+adaptive::LevelsSpec levels_spec(const SweepPlan& plan);
 
 // The solid fractions a stored request covers, in its order (its points' phi, or its phi axis,
 // else the scene's default): what the dashboard lists a sweep under. A request this server

@@ -63,7 +63,8 @@ json limits_json(const PlannerLimits& l) {
             {"resolution_decades", adaptive::kDefaultResolutionDecades},
             {"finest_resolution_decades", adaptive::kFinestResolutionDecades},
             {"budget", std::min<long long>(adaptive::kDefaultBudget, static_cast<long long>(l.max_points))},
-            {"in_flight", adaptive::kDefaultInFlight}}}};
+            {"in_flight", adaptive::kDefaultInFlight},
+            {"max_levels", adaptive::kMaxLevels}}}};
 }
 
 // Counts an answer by its class and logs it (a refusal with its body, at info).

@@ -92,7 +92,8 @@ void register_sweep_routes(httplib::Server& server, App& app) {
   });
 
   // The cost of a sweep before it is created: the planner's jobs (the same 422s as a create)
-  // through the cost model; an adaptive sweep's budget at its initial grid's mean cost.
+  // through the cost model; an adaptive sweep's budget at its initial grid's mean cost at its
+  // finest level, or its budget in CPU-hours when lower.
   add_route(server, endpoints::estimate_sweep, [&app](const httplib::Request& req, httplib::Response& res) {
     const SweepPlan plan = plan_sweep(parse_json_body(req), app.limits);
     views::SweepEstimate e;
@@ -100,6 +101,16 @@ void register_sweep_routes(httplib::Server& server, App& app) {
     for (const SceneParams& p : plan.scenes) e.cpu_seconds += cost::cpu_seconds(p);
     e.max_jobs = plan.adaptive ? plan.adaptive->budget : e.jobs;
     e.max_cpu_seconds = e.jobs > 0 ? e.cpu_seconds * static_cast<double>(e.max_jobs) / e.jobs : 0;
+    if (plan.adaptive) {
+      // The budget in runs at the finest level's mean cost over the initial grid, or the budget
+      // in CPU-hours when that is lower.
+      double finest = 0;
+      for (const SceneParams& p : plan.scenes) {
+        finest += run_cpu_seconds(plan, {p.S, p.R}, static_cast<int>(plan.levels.size()) - 1);
+      }
+      e.max_cpu_seconds = std::min(plan.budget_cpu_seconds,
+                                   finest * static_cast<double>(e.max_jobs) / static_cast<double>(e.jobs));
+    }
     const std::int64_t now = now_ms();
     e.lease_seconds = app.options.lease_seconds;
     for (const auto& [name, at] : app.workers.list(now)) {

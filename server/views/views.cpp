@@ -106,19 +106,28 @@ json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs) {
   return {{"id", id}, {"cancelled_jobs", cancelled_jobs}};
 }
 
+namespace {
+
+// A number of CPU seconds as CPU-hours, null for an infinite budget.
+json cpu_hours(double seconds) { return std::isfinite(seconds) ? json(seconds / 3600.0) : json(nullptr); }
+
+}  // namespace
+
 json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
-  // Where the sweep stands. "planning": nothing pending, but points worth running and budget
+  // Where the sweep stands. "planning": nothing pending, but runs worth queueing and budget
   // for them, which the planner is adding (a result has just been stored; the jobs follow in
-  // the next transaction). Once neither is left, the runs decide. A point takes its replicates
-  // from the budget at once.
+  // the next transaction). Once neither is left, the runs decide.
   const std::size_t budget_left = r.spec.budget - std::min(r.spec.budget, r.done + r.pending);
-  const bool point_left = budget_left >= r.replicates;
-  const char* state = r.cancelled                                 ? "cancelled"
-                      : r.pending > 0                             ? "running"
-                      : !r.candidates.empty() && point_left       ? "planning"
-                      : r.resolved                                ? "resolved"
-                      : !point_left                               ? "budget_spent"
-                                                                  : "unresolved";
+  const double cpu_left = r.budget_cpu_seconds - r.cpu_seconds;
+  const bool fits = std::any_of(r.candidates.begin(), r.candidates.end(), [&](const auto& a) {
+    return a.cpu_seconds <= cpu_left;
+  });
+  const char* state = r.cancelled                                       ? "cancelled"
+                      : r.pending > 0                                   ? "running"
+                      : !r.candidates.empty() && budget_left > 0 && fits ? "planning"
+                      : r.resolved                                      ? "resolved"
+                      : budget_left == 0 || !r.candidates.empty()       ? "budget_spent"
+                                                                        : "unresolved";
   const adaptive::Steps steps = adaptive::finest_steps(r.spec);
   // The lattice of the finest steps, both ends included: the full grid that resolves every
   // boundary as finely as the sweep does.
@@ -128,8 +137,20 @@ json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
   const long long n_S = nodes(r.spec.S, steps.S), n_R = nodes(r.spec.R, steps.R);
   json candidates = json::array();
   for (std::size_t i = 0; i < r.candidates.size() && i < limit; ++i) {
-    const adaptive::Proposal& p = r.candidates[i];
-    candidates.push_back({{"S", p.point.S}, {"R", p.point.R}, {"value", p.value}});
+    const adaptive::LevelAction& a = r.candidates[i];
+    candidates.push_back({{"S", a.point.S}, {"R", a.point.R}, {"level", a.level},
+                          {"replicate", a.replicate}, {"why", a.why}, {"value", a.value},
+                          {"cpu_seconds", a.cpu_seconds}});
+  }
+  json levels = json::array();
+  for (const LevelReport& l : r.levels) {
+    levels.push_back({{"cells_per_unit", l.cells_per_unit},
+                      {"points", l.points},
+                      {"robust", l.robust},
+                      {"runs", {{"done", l.runs_done}, {"pending", l.runs_pending}}},
+                      {"cpu_hours", {{"done", l.cpu_seconds_done / 3600.0},
+                                     {"pending", l.cpu_seconds_pending / 3600.0}}},
+                      {"next", {{"runs", l.next_runs}, {"cpu_hours", l.next_cpu_seconds / 3600.0}}}});
   }
   return {{"id", id},
           {"state", state},
@@ -139,7 +160,10 @@ json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
                     {"pending", r.pending},
                     {"budget", r.spec.budget},
                     {"budget_left", budget_left}}},
-          {"points", {{"done", r.points_done}, {"pending", r.points_pending}}},
+          {"cpu_hours", {{"spent", r.cpu_seconds / 3600.0},
+                         {"budget", cpu_hours(r.budget_cpu_seconds)},
+                         {"budget_left", cpu_hours(cpu_left)}}},
+          {"levels", levels},
           {"lattice", {{"step_S_decades", steps.S},
                        {"step_R_decades", steps.R},
                        {"S", n_S},

@@ -269,25 +269,23 @@ TEST(Planner, StructureAndSeedsAreValidatedWithTheirField) {
       "numerics": {"preset": "default", "structure": "random", "seeds": [1, 2]},
       "adaptive": {"S": {"min": 1e-3, "max": 1e-1}, "R": {"min": 1e-5, "max": 1e-1},
                    "initial": {"S": 3, "R": 3}, "resolution_decades": 0.5, "budget": 20}})");
-  // An adaptive sweep runs each point once per seed: 3 x 3 initial points x 2 seeds = 18 runs,
-  // and its budget counts runs.
+  // An adaptive sweep maps with one run a point (the first seed) and adds replicates, with the
+  // next seeds, where the map asks for them (levels_plan.hpp).
   const SweepPlan twice = plan_sweep(adaptive);
   EXPECT_EQ(twice.replicates, 2u);
-  ASSERT_EQ(twice.scenes.size(), 18u);
-  EXPECT_EQ(twice.scenes[0].seed, 1u);
-  EXPECT_EQ(twice.scenes[1].seed, 2u);
-  EXPECT_EQ(twice.scenes[0].S, twice.scenes[1].S);
-  const auto more = adaptive_scenes(twice, {{0.01, 1e-3}});
-  ASSERT_EQ(more.size(), 2u);
-  EXPECT_EQ(more[1].seed, 2u);
-  adaptive["adaptive"]["budget"] = 17;
+  ASSERT_EQ(twice.scenes.size(), 9u);
+  for (const auto& scene : twice.scenes) EXPECT_EQ(scene.seed, 1u);
+  const auto more = adaptive_scenes(twice, {{{0.01, 1e-3}, 0, 1, 0.0, 0.0, "replicate"}});
+  ASSERT_EQ(more.size(), 1u);
+  EXPECT_EQ(more[0].seed, 2u) << "replicate 1 runs with the second seed";
+  adaptive["adaptive"]["budget"] = 8;
   EXPECT_EQ(error_of(adaptive), std::make_pair(422, std::string("adaptive.budget")));
   adaptive["adaptive"]["budget"] = 20;
   adaptive["numerics"]["seeds"] = json::parse("[7]");
   const SweepPlan p = plan_sweep(adaptive);
   ASSERT_FALSE(p.scenes.empty());
   EXPECT_EQ(p.scenes[0].seed, 7u);
-  EXPECT_EQ(adaptive_scenes(p, {{0.01, 1e-3}})[0].seed, 7u);
+  EXPECT_EQ(adaptive_scenes(p, {{{0.01, 1e-3}, 0, 0, 0.0, 0.0, "map"}})[0].seed, 7u);
 }
 
 TEST(Planner, ReplicatesRunEachPointWithSeedsOneToNAndTheirPerturbation) {
@@ -343,6 +341,64 @@ TEST(Planner, BadReplicatesAreRefusedWithTheirField) {
   PlannerLimits limits;
   limits.max_points = 20;
   EXPECT_EQ(error_of(b, limits), std::make_pair(413, std::string("replicates")));
+}
+
+// Issue 47's body: replicates and two levels, the default preset and 8 cells across a strut.
+json trusted() {
+  return json::parse(R"({"name": "trusted", "phi": 0.4, "replicates": {"n": 4, "perturbation": 0.01},
+      "adaptive": {"S": {"min": 3e-3, "max": 3e-2}, "R": {"min": 1e-5, "max": 1e-2},
+                   "initial": {"S": 3, "R": 4}, "resolution_decades": 0.25, "budget": 400,
+                   "budget_cpu_hours": 40,
+                   "levels": [{"preset": "default"}, {"cells_per_strut": 8}]}})");
+}
+
+TEST(Planner, AnAdaptiveSweepWithLevelsStartsAtTheCoarsestWithOneRunAPoint) {
+  const SweepPlan p = plan_sweep(trusted());
+  ASSERT_EQ(p.levels.size(), 2u);
+  EXPECT_EQ(p.replicates, 4u);
+  EXPECT_EQ(p.budget_cpu_seconds, 40 * 3600.0);
+  ASSERT_EQ(p.scenes.size(), 12u) << "the initial 3 x 4 grid";
+  SweepPlan default_preset = plan_sweep(json::parse(R"({"name": "d", "phi": 0.4, "S": 0.01,
+      "R": 1e-3, "numerics": {"preset": "default"}})"));
+  for (const auto& scene : p.scenes) {
+    EXPECT_EQ(scene.seed, 1u);
+    EXPECT_EQ(scene.perturbation, 0.01);
+    EXPECT_EQ(scene.grid_cells_per_unit(), default_preset.scenes[0].grid_cells_per_unit());
+  }
+  // The finer level: 8 cells across the strut (36 per unit cell at phi 0.4), the rest the same.
+  const compaction::SceneParams fine = level_scene(p, 1, {0.01, 1e-3});
+  EXPECT_NEAR(fine.cells_per_strut, 8.0, 1e-12);
+  EXPECT_GT(fine.grid_cells_per_unit(), p.scenes[0].grid_cells_per_unit());
+  EXPECT_GT(run_cpu_seconds(p, {0.01, 1e-3}, 1), 4 * run_cpu_seconds(p, {0.01, 1e-3}, 0));
+  const auto scenes = adaptive_scenes(p, {{{0.01, 1e-3}, 1, 2, 0.0, 0.0, "replicate"}});
+  EXPECT_EQ(scenes[0].seed, 3u);
+  EXPECT_EQ(scenes[0].grid_cells_per_unit(), fine.grid_cells_per_unit());
+  // Without levels: one level, the sweep's numerics.
+  json one = trusted();
+  one["adaptive"].erase("levels");
+  EXPECT_EQ(plan_sweep(one).levels.size(), 1u);
+}
+
+TEST(Planner, BadLevelsAndCpuBudgetsAreRefusedWithTheirField) {
+  const auto refused = [](const char* key, json value, const std::string& field) {
+    json b = trusted();
+    b["adaptive"][key] = value;
+    EXPECT_EQ(error_of(b), std::make_pair(422, field)) << value.dump();
+  };
+  refused("levels", json::array(), "adaptive.levels");
+  refused("levels", json::parse("[{}, {}, {}, {}, {}]"), "adaptive.levels");
+  refused("levels", json::parse(R"([{"cells_per_strut": 8}, {"preset": "default"}])"), "adaptive.levels[1]");
+  refused("levels", json::parse(R"([{"preset": "default"}, {"preset": "default"}])"), "adaptive.levels[1]");
+  refused("levels", json::parse(R"([{"preset": "default"}, {"eps_end": 0.3}])"), "adaptive.levels[1].eps_end");
+  refused("levels", json::parse(R"([{"preset": "coarse"}])"), "adaptive.levels[0].preset");
+  refused("levels", json::parse(R"([{"preset": "default"}, {"cells_per_strut": "8"}])"),
+          "adaptive.levels[1].cells_per_strut");
+  refused("levels", json::parse(R"([{"preset": "default"}, {"cells_per_strut": 80}])"),
+          "adaptive.levels[1].cells_per_strut");
+  refused("levels", json::parse(R"([3])"), "adaptive.levels[0]");
+  refused("budget_cpu_hours", 0, "adaptive.budget_cpu_hours");
+  refused("budget_cpu_hours", "40", "adaptive.budget_cpu_hours");
+  refused("budget_cpu_hours", 1e-3, "adaptive.budget_cpu_hours");  // below the initial grid's cost
 }
 
 TEST(Planner, AnAdaptiveSweepStartsWithItsInitialGridAtItsPhi) {
