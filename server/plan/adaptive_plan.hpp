@@ -89,6 +89,9 @@ struct Labelled {
   std::optional<std::string> label;      // "a".."f"; none for a failed or unclassified run
   double confidence = 0;                 // in [0, 1]; read only when there is a label
   std::optional<std::string> runner_up;  // the second best class (carried for the caller)
+  // The run's share of its point's weight where a point's replicates vote together (the
+  // predicted regions, phase_regions.hpp: 1 / the point's labelled runs); 1 elsewhere.
+  double share = 1;
 };
 
 struct Proposal {

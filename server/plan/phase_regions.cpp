@@ -14,6 +14,7 @@ struct Voter {
   double x = 0, y = 0;
   int label = 0, runner_up = -1;
   double confidence = 0;
+  double share = 1;  // the run's share of its point's vote (Labelled::share)
 };
 
 struct Voters {
@@ -43,12 +44,13 @@ Voters prepare(const std::vector<adaptive::Labelled>& runs) {
     // A runner-up equal to the label adds nothing a second time: the whole vote is the label's.
     w.runner_up = r.runner_up && *r.runner_up != *r.label ? index(*r.runner_up) : -1;
     w.confidence = std::clamp(r.confidence, 0.0, 1.0);
+    w.share = std::clamp(r.share, 0.0, 1.0);
     v.list.push_back(w);
   }
   // A fixed order of summation: the same bits whatever order the runs came in.
   std::sort(v.list.begin(), v.list.end(), [](const Voter& a, const Voter& b) {
-    return std::tie(a.x, a.y, a.label, a.runner_up, a.confidence) <
-           std::tie(b.x, b.y, b.label, b.runner_up, b.confidence);
+    return std::tie(a.x, a.y, a.label, a.runner_up, a.confidence, a.share) <
+           std::tie(b.x, b.y, b.label, b.runner_up, b.confidence, b.share);
   });
   return v;
 }
@@ -73,7 +75,7 @@ Cell vote(const Voters& v, std::size_t first, std::size_t last, double x, double
     const double dx = w.x - x, dy = w.y - y;
     const double d2 = dx * dx + dy * dy;
     if (d2 > kCutoff * kCutoff) continue;
-    const double weight = ex[k - first] * ey[k];
+    const double weight = ex[k - first] * ey[k] * w.share;
     evidence += weight;
     votes[w.label] += weight * (1 + w.confidence) / 2;
     if (w.runner_up >= 0) votes[w.runner_up] += weight * (1 - w.confidence) / 2;

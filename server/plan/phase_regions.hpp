@@ -12,6 +12,9 @@
 //    to the runner-up (to no class when it has none), as if the two scores were the shares of
 //    one. A label with confidence 0.97 votes almost whole; one with 0.05 nearly as much for
 //    its runner-up.
+//  - A point's replicates vote as one point: each of its k labelled runs with weight k_i / k
+//    (Labelled::share), so the vote of a point is its class probabilities (point_tally.hpp),
+//    each split by its run's confidence, and four replicates weigh as much as one run.
 //  - The cell's class is the one with the largest vote (the first in label order at a tie);
 //    its certainty is margin x reach: margin = (best - second) / E and reach =
 //    1 - exp(-E / kEvidenceScale), with E = sum k_i the evidence of the cell. Uncertainty is

@@ -4,6 +4,8 @@
 #include "routes/app.hpp"
 #include "routes/checkpoint_routes.hpp"
 
+#include <map>
+
 #include "compaction/params.hpp"
 #include "exchange/result_intake.hpp"
 #include "http/endpoints.hpp"
@@ -37,11 +39,13 @@ MapQuery map_query(const httplib::Request& req) {
   return q;
 }
 
-// The regions the map's labelled runs predict over the box of all its runs (none without runs).
+// The regions the map's labelled runs predict over the box of all its runs (none without runs),
+// each point's replicates voting as one point.
 std::optional<regions::Regions> predicted_regions(const std::vector<PhaseMapPoint>& points,
                                                   int grid) {
   std::vector<adaptive::Point> all;
-  std::vector<adaptive::Labelled> labelled;
+  std::vector<std::pair<std::int64_t, adaptive::Labelled>> labelled;  // by point
+  std::map<std::int64_t, int> runs_of;
   for (const PhaseMapPoint& p : points) {
     all.push_back({p.S, p.R});
     // The classifier's label counts from a stable run's result (an unstable run's label is not
@@ -50,11 +54,19 @@ std::optional<regions::Regions> predicted_regions(const std::vector<PhaseMapPoin
     const bool stable = p.status == std::optional<std::string>("ok");
     adaptive::Labelled l = counted_label({p.S, p.R}, p.human_label, stable ? p.cls : std::nullopt,
                                          p.confidence, p.runner_up);
-    if (l.label) labelled.push_back(std::move(l));
+    if (!l.label) continue;
+    const std::int64_t point = p.point_id ? p.point_id : -p.job_id;
+    ++runs_of[point];
+    labelled.emplace_back(point, std::move(l));
   }
   const auto box = regions::box_of(all);
   if (!box) return std::nullopt;
-  return regions::predict(labelled, *box, grid);
+  std::vector<adaptive::Labelled> votes;
+  for (auto& [point, l] : labelled) {
+    l.share = 1.0 / runs_of[point];
+    votes.push_back(std::move(l));
+  }
+  return regions::predict(votes, *box, grid);
 }
 
 }  // namespace

@@ -221,3 +221,22 @@ TEST(PhaseRegions, the_box_covers_the_points_padded_and_at_least_a_decade_wide) 
 }
 
 }  // namespace
+
+// A point's replicates vote as one point (Labelled::share = 1 / its labelled runs): four
+// replicates split 3:1 between (a) and (b) against one run (b) at the same distance on the
+// other side give (b) the middle, 0.75 against 1.25 of a run's weight; counted as four runs
+// they would give it to (a), 3 against 2.
+TEST(PhaseRegions, a_points_replicates_vote_as_one_point_with_its_probabilities) {
+  using compaction::server::adaptive::Labelled;
+  std::vector<Labelled> runs;
+  for (const char* label : {"a", "a", "a", "b"}) {
+    Labelled l{{1e-2, std::pow(10.0, -2.5)}, std::string(label), 1.0, std::nullopt};
+    l.share = 0.25;
+    runs.push_back(l);
+  }
+  runs.push_back({{1e-2, std::pow(10.0, -1.5)}, std::string("b"), 1.0, std::nullopt});  // share 1
+  const auto middle = compaction::server::regions::predict_at(runs, -2.0, -2.0);
+  EXPECT_EQ(middle.cls, "b");
+  for (auto& r : runs) r.share = 1.0;
+  EXPECT_EQ(compaction::server::regions::predict_at(runs, -2.0, -2.0).cls, "a");
+}
