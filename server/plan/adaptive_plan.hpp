@@ -38,6 +38,9 @@ inline constexpr double kDefaultResolutionDecades = 0.125;
 inline constexpr long long kDefaultBudget = 200;
 // The most levels of numerics an adaptive sweep may name ("levels", levels_plan.hpp).
 inline constexpr std::size_t kMaxLevels = 4;
+// Relative slack of comparisons between steps and the resolution: far above the rounding of
+// values to 12 significant digits, far below a step.
+inline constexpr double kStepSlack = 1e-9;
 
 // Weights of a cell's disagreement (value = weight x the cell's longer side in decades).
 // Two labels differ: the boundary the map is drawn for.
@@ -75,7 +78,8 @@ struct AdaptiveSpec {
 // The spec from the request's "adaptive" object: S and R required, the rest with the defaults
 // above. Errors are ApiError naming the field under `field` ("adaptive.S.min",
 // "adaptive.budget"): 422 for invalid values, 413 for a budget above max_points (the server's
-// sweep limit).
+// sweep limit). "levels" and "budget_cpu_hours" are let through for the planner, which reads
+// them with the sweep's scenes (planner.cpp). Defined in adaptive_spec.cpp.
 AdaptiveSpec parse_spec(const nlohmann::json& adaptive, std::size_t max_points,
                         const std::string& field = "adaptive");
 
