@@ -9,7 +9,8 @@ from them), runs --workers workers until the planner has nothing left or --hours
 stops them (a run cut short checkpoints into this part's database and is run again by a later
 part), and writes the sweep's export over results/trusted.export.json and a line per part to
 results/parts.md: the runs done per level, the CPU-hours the runs took (their wall time on one
-core each) and the cost model's, the plan's state.
+core each) and the cost model's, the plan's state; then the report (report.py, results/report.md)
+is made again from the new export.
 
     PYTHONPATH=python python3 -m studies.trusted_map.part --hours 2
 """
@@ -24,6 +25,8 @@ import tempfile
 import time
 
 from compaction_client import Client
+from studies.lib import kept_notes
+from studies.trusted_map import report
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 RESULTS = os.path.join(ROOT, "studies", "trusted_map", "results")
@@ -133,6 +136,9 @@ def main():
     with open(parts, "a") as f:
         f.write(line + "\n")
     print(line)
+    with open(EXPORT) as f:
+        kept_notes.write(report.REPORT, "\n".join(report.report(json.load(f))))
+    print("report:", report.REPORT)
 
 
 if __name__ == "__main__":
