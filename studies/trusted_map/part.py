@@ -4,11 +4,12 @@ workers for a while, then exported, so that the map grows across sessions.
 
 Each part starts a server on a fresh database in --work, imports the sweep's export of the part
 before it (results/trusted.export.json, when there is one), submits the same request (REQUEST
-below: its runs done before are found by identity and reused at once, and the planner goes on
-from them), runs --workers workers until the planner has nothing left or --hours have passed,
-stops them (a run cut short checkpoints into this part's database and is run again by a later
-part), and writes the sweep's export over results/trusted.export.json and a line per part to
-results/parts.md: the runs done per level, the CPU-hours the runs took (their wall time on one
+below: its runs done before are found by identity and reused at once, and the planner goes on from
+them), runs --workers workers until the planner has nothing left, --hours have passed or SIGINT or
+SIGTERM asks it to end, stops them (a run cut short checkpoints into this part's database and is
+run again by a later part), and writes the sweep's export over results/trusted.export.json (the
+archive the next part imports) and results/trusted.map.json (its points and runs), a line per part
+to results/parts.md: the runs done per level, the CPU-hours the runs took (their wall time on one
 core each) and the cost model's, the plan's state; then the report (report.py, results/report.md)
 is made again from the new export.
 
@@ -30,7 +31,8 @@ from studies.trusted_map import report
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 RESULTS = os.path.join(ROOT, "studies", "trusted_map", "results")
-EXPORT = os.path.join(RESULTS, "trusted.export.json")
+EXPORT = os.path.join(RESULTS, "trusted.export.json")  # the archive the next part imports
+MAP = os.path.join(RESULTS, "trusted.map.json")  # the sweep's JSON export: its points, the report's
 
 # Issue 47's body: the box S 3e-3..3e-2, R 1e-5..1e-2 at phi 0.4 (examples (a) and (b) inside),
 # 4 replicates perturbed by 1 % of the particle spacing, the default preset and 8 cells across a
@@ -66,6 +68,20 @@ def start_workers(bin_dir, work, url, n):
     return workers
 
 
+class StopEarly:
+    """SIGINT or SIGTERM ends the part at its next look at the plan, as its deadline would: the
+    workers stop (a run cut short checkpoints), the export and the line in parts.md are written."""
+
+    def __init__(self):
+        self.asked = False
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, self.ask)
+
+    def ask(self, signum, _frame):
+        print("%s: ending the part" % signal.Signals(signum).name, flush=True)
+        self.asked = True
+
+
 def level_of(job, levels):
     return levels.get(job["cells_per_unit"])
 
@@ -94,15 +110,19 @@ def main():
         before = {j["id"] for j in client.jobs(sweep=sweep) if j["state"] == "succeeded"}
         workers = start_workers(a.bin, work, url, a.workers)
         deadline = started + a.hours * 3600
+        stop = StopEarly()
         plan = client.plan(sweep)
-        while time.time() < deadline:
+        while time.time() < deadline and not stop.asked:
             plan = client.plan(sweep)
             if plan["state"] not in ("running", "planning"):
                 break
             print("%s %s runs %s, %.2f CPU-hours by the model" % (
                 time.strftime("%H:%M:%S"), plan["state"], plan["runs"], plan["cpu_hours"]["spent"]),
                 flush=True)
-            time.sleep(60)
+            for _ in range(60):
+                if stop.asked:
+                    break
+                time.sleep(1)
     finally:
         for w in workers:
             w.send_signal(signal.SIGTERM)
@@ -117,6 +137,9 @@ def main():
     for j in new:
         per_level[level_of(j, levels)] = per_level.get(level_of(j, levels), 0) + 1
     client.export_archive(sweep, EXPORT, artifacts="none")
+    with open(MAP, "w") as f:
+        json.dump(client._json("GET", "/sweeps/%d/export" % sweep["id"], query={"format": "json"}),
+                  f, indent=1, sort_keys=True)
     server.send_signal(signal.SIGTERM)
     server.wait(timeout=60)
     line = ("- %s, %.2f h, %d workers: %d new runs (per level %s), %.2f CPU-hours of run time; "
@@ -136,7 +159,7 @@ def main():
     with open(parts, "a") as f:
         f.write(line + "\n")
     print(line)
-    with open(EXPORT) as f:
+    with open(MAP) as f:
         kept_notes.write(report.REPORT, "\n".join(report.report(json.load(f))))
     print("report:", report.REPORT)
 

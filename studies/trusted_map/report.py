@@ -1,6 +1,7 @@
 """The trusted map's report (issue 47, item 4): what the sweep's export says of its labels' trust.
 
-Reads the export that the parts leave (results/trusted.export.json, made by part.py) and writes
+Reads the sweep's JSON export that the parts leave (results/trusted.map.json, made by part.py:
+the points and the runs, as GET /api/v1/sweeps/{id}/export?format=json answers) and writes
 results/report.md: per level of numerics the points, runs and robust points; the share of
 robust labels per class at each point's finest level; every point whose label changed between
 levels; the (a)/(b) boundary in R/S^2 at each level with its bracket; c_b/V of (b) as mean +- sd
@@ -8,7 +9,7 @@ per point at the finer level; the CPU-hours spent against the brute force (every
 at the finest level with all replicates); and how often the coarser level's label agrees with
 the finer one's. Text written below the report's marker is kept when it is made again.
 
-    python3 -m studies.trusted_map.report [--export FILE] [--out FILE]
+    python3 -m studies.trusted_map.report [--map FILE] [--out FILE]
 """
 import argparse
 import json
@@ -20,7 +21,7 @@ from studies.lib import kept_notes
 from studies.lib.cells import fmt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-EXPORT = os.path.join(HERE, "results", "trusted.export.json")
+MAP = os.path.join(HERE, "results", "trusted.map.json")
 REPORT = os.path.join(HERE, "results", "report.md")
 CLASSES = "abcdef"
 
@@ -254,8 +255,8 @@ def report(export):
     hours = run_hours(jobs, grids)
     best = finest(levels)
     return (["# The trusted map: report", "",
-             "Made by `python3 -m studies.trusted_map.report` from [trusted.export.json]"
-             "(trusted.export.json) (the parts are in [parts.md](parts.md)). Request: `%s`." %
+             "Made by `python3 -m studies.trusted_map.report` from [trusted.map.json]"
+             "(trusted.map.json) (the parts are in [parts.md](parts.md)). Request: `%s`." %
              json.dumps(request, sort_keys=True), "",
              "## Levels", ""] + level_lines(levels, grids, hours) +
             ["", "## Robust labels per class, at each point's finest level", ""] +
@@ -268,10 +269,10 @@ def report(export):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--export", default=EXPORT)
+    ap.add_argument("--map", default=MAP, help="the sweep's JSON export (format=json)")
     ap.add_argument("--out", default=REPORT)
     a = ap.parse_args()
-    with open(a.export) as f:
+    with open(a.map) as f:
         text = "\n".join(report(json.load(f)))
     kept_notes.write(a.out, text)
     print(text)
