@@ -123,6 +123,13 @@ void CommandLine::positional(const std::string& name, std::string& out, const st
   e.required = required;
 }
 
+void CommandLine::positionals(const std::string& name, std::vector<std::string>& out,
+                              const std::string& help, bool required) {
+  Entry& e = add(name, "", help, "", {});
+  e.positionals = &out;
+  e.required = required;
+}
+
 void CommandLine::notes(std::string text) { notes_ = std::move(text); }
 
 int CommandLine::fail(const std::string& flag, const std::string& message) const {
@@ -149,11 +156,11 @@ std::string CommandLine::help() const {
     }
   };
   for (const Entry& e : entries_) {
-    if (!e.positional) continue;
-    line(e.flag, e.help);
+    if (!e.positional && !e.positionals) continue;
+    line(e.positionals ? e.flag + "..." : e.flag, e.help);
   }
   for (const Entry& e : entries_) {
-    if (e.positional) continue;
+    if (e.positional || e.positionals) continue;
     const std::string head = e.flag + (e.value_name.empty() ? "" : " " + e.value_name);
     line(head, e.help + (e.default_text.empty() ? "" : " [" + e.default_text + "]"));
   }
@@ -174,7 +181,10 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv) {
   app.add_flag("--version", version_asked);
   std::vector<std::pair<Entry*, CLI::Option*>> options;
   for (Entry& e : entries_) {
-    CLI::Option* o = e.set ? app.add_flag(e.flag) : app.add_option(e.flag, e.raw);
+    CLI::Option* o = e.set           ? app.add_flag(e.flag)
+                     : e.positionals ? app.add_option(e.flag, e.raws)
+                                           ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+                                     : app.add_option(e.flag, e.raw);
     options.emplace_back(&e, o);
   }
   auto print_help = [this] {
@@ -218,6 +228,8 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv) {
       *e->set = true;
     } else if (e->positional) {
       *e->positional = e->raw;
+    } else if (e->positionals) {
+      *e->positionals = e->raws;
     } else {
       try {
         e->read(e->raw);

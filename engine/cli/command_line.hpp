@@ -56,6 +56,10 @@ class CommandLine {
   // One positional argument (required when `required`).
   void positional(const std::string& name, std::string& out, const std::string& help,
                   bool required = true);
+  // Every positional argument, in order (at least one when `required`); a program takes either
+  // this or positional().
+  void positionals(const std::string& name, std::vector<std::string>& out,
+                   const std::string& help, bool required = true);
   // Paragraphs printed after the flags in --help.
   void notes(std::string text);
 
@@ -75,8 +79,10 @@ class CommandLine {
     std::function<void(const std::string&)> read;  // empty for a flag without a value
     bool* set = nullptr;                            // a flag without a value
     std::string* positional = nullptr;
+    std::vector<std::string>* positionals = nullptr;
     bool required = false;
-    std::string raw;  // what CLI11 collected
+    std::string raw;                // what CLI11 collected
+    std::vector<std::string> raws;  // what CLI11 collected for positionals()
   };
   Entry& add(std::string flag, std::string value_name, std::string help, std::string default_text,
              std::function<void(const std::string&)> read);

@@ -62,7 +62,49 @@ check "--fronts gives the primary front's leading-edge points ($edge)" test "$ed
 check "both inputs exit 2" test $rc -eq 2
 "$classify" --fronts --features "$out/b/summary.json" 2> "$out/err"; rc=$?
 check "--fronts with --features exits 2" test $rc -eq 2
-check "--fronts needs a bundle" grep -q -- "--fronts needs RESULT_DIR" "$out/err"
+check "--fronts needs a bundle" grep -q -- "--fronts needs one RESULT_DIR" "$out/err"
+
+# A point's replicates: the explosive run three times with its particles perturbed by 1 % of
+# their spacing, seeds 1 to 3. Read together, the point counts three runs and its vote, and each
+# reading is the mean and sample deviation of the runs that carry the majority's label, as
+# compaction-classify reads each of them alone.
+for seed in 1 2 3; do
+  "$run" --S 0.1 --R 1e-5 --phi 0.4 --cells-per-unit 6 --eps-end 0.1 --perturbation 0.01 \
+    --seed $seed --out "$out/p$seed" > /dev/null 2>&1
+  "$classify" --compact "$out/p$seed" > "$out/p$seed.json"
+done
+"$classify" --compact "$out/p1" "$out/p2" "$out/p3" > "$out/point.json" 2> "$out/err"; rc=$?
+check "a point's replicates classified" test $rc -eq 0
+point=$(python3 - "$out/point.json" "$out"/p1.json "$out"/p2.json "$out"/p3.json <<'PY'
+import json, statistics, sys
+d = json.load(open(sys.argv[1]))
+runs = [json.load(open(f)) for f in sys.argv[2:]]
+p = d["point"]
+labels = [r["class"] for r in runs]
+top = max(sorted(set(labels)), key=labels.count)
+speeds = [r["band_speed_ratio"] for r in runs if r["class"] == top]
+problems = []
+if (p["runs"], p["labelled"], p["class"]) != (3, 3, top):
+    problems.append("runs, labelled, class %s" % [p["runs"], p["labelled"], p["class"]])
+if p["share"] != labels.count(top) / 3 or p["robust"] != (labels.count(top) == 3):
+    problems.append("share %s robust %s of %s" % (p["share"], p["robust"], labels))
+if p["probabilities"] != {c: labels.count(c) / 3 for c in set(labels)}:
+    problems.append("probabilities %s" % p["probabilities"])
+b = p["band_speed_ratio"]
+if b["n"] != len(speeds) or abs(b["mean"] - statistics.mean(speeds)) > 1e-12 \
+        or abs(b["sd"] - statistics.stdev(speeds)) > 1e-12:
+    problems.append("band_speed_ratio %s against %s" % (b, speeds))
+if [r["class"] for r in d["runs"]] != labels or [r["seed"] for r in d["runs"]] != [1, 2, 3]:
+    problems.append("runs %s" % [(r["class"], r["seed"]) for r in d["runs"]])
+print("; ".join(problems) or "ok")
+PY
+)
+check "the point is its runs read together ($point)" test "$point" = ok
+"$classify" "$out/p1" "$out/b" 2> "$out/err"; rc=$?
+check "another point's bundle exits 1" test $rc -eq 1
+check "another point's bundle named with its key" grep -q "$out/b has another perturbation than $out/p1" "$out/err"
+"$classify" --fronts "$out/p1" "$out/p2" 2> "$out/err"; rc=$?
+check "--fronts with a point exits 2" test $rc -eq 2
 
 "$classify" --compact --features "$out/b/summary.json" > "$out/again.json" 2> "$out/err"; rc=$?
 check "features decided" test $rc -eq 0
