@@ -1,46 +1,21 @@
-// The checkpoint file (schema/checkpoint-format.md): a magic, the format version, a JSON header
-// (engine version, scene, where the run stands), the binary sections of the state in a fixed
-// order, and a CRC-32 of everything before it. Numbers are written as the machine holds them
-// (x86-64: little-endian IEEE 754), so restored doubles are the written bits.
+// The 2D scene's checkpoint: its particle section (schema/checkpoint-format.md) inside the
+// framing and shared sections of checkpoint_file.cpp.
 #include "checkpoint.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-#include <zlib.h>
-
-#include <cerrno>
-#include <chrono>
-#include <cstring>
-#include <fstream>
-#include <iterator>
-#include <sstream>
-#include <type_traits>
-
-#include <nlohmann/json.hpp>
-
-#include "compaction/params_json.hpp"
+#include <vector>
 
 namespace compaction {
 
 namespace {
 
-using nlohmann::json;
+using checkpoint_file::In;
+using checkpoint_file::Out;
 
-constexpr char kMagic[8] = {'C', 'M', 'P', 'C', 'K', 'P', 'T', '\n'};
-constexpr std::uint32_t kFormatVersion = 3;
-
-// The sections below list every field of these types. A field added to one of them changes its
-// size and stops the build here: write it into the checkpoint (and read it back), describe it
-// in schema/checkpoint-format.md and raise kFormatVersion.
+// The particle section lists every field of Particles. A field added to it changes its size
+// and stops the build here: write it into the checkpoint (and read it back), describe it in
+// schema/checkpoint-format.md and raise the format version (checkpoint_file.cpp).
 // Particles::field_bits is left out: p2g writes it before g2p reads it, within every step.
 static_assert(sizeof(Particles) == 576, "Particles changed: add the field to the checkpoint");
-static_assert(sizeof(Clock) == 40, "Clock changed: add the field to the checkpoint");
-static_assert(sizeof(StepMeasure) == 48, "StepMeasure changed: add the field to the checkpoint");
-static_assert(sizeof(Frame) == 9 * sizeof(double), "Frame changed: raise kFormatVersion");
-static_assert(sizeof(Snapshot) == 128, "Snapshot changed: add the field to the checkpoint");
-static_assert(sizeof(SpaceTimeMap) == 40, "SpaceTimeMap changed: add the field to the checkpoint");
-static_assert(sizeof(StageTimes) == 32, "StageTimes changed: add the field to the checkpoint");
-static_assert(sizeof(RunResult) == 280, "RunResult changed: add the field to the checkpoint");
 
 // The file keeps each particle's C, Fe and tau whole, one matrix after another
 // (schema/checkpoint-format.md); the particles keep one array per entry (Mat2Columns,
@@ -57,357 +32,42 @@ void set_from_rows(Columns& c, const std::vector<Row>& r) {
   for (std::size_t k = 0; k < r.size(); ++k) c.set(k, r[k]);
 }
 
-// Appends plain values and arrays (a 64-bit count, then the elements) to a byte buffer.
-class Out {
- public:
-  template <typename T>
-  void put(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  template <typename T>
-  void put_array(const std::vector<T>& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    put(static_cast<std::uint64_t>(v.size()));
-    if (!v.empty()) buf_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-  }
-  void put_bytes(const std::string& s) { buf_.append(s); }
-  std::string& bytes() { return buf_; }
-
- private:
-  std::string buf_;
-};
-
-// Reads what Out wrote, refusing a file that ends early.
-class In {
- public:
-  In(const std::string& buf, std::size_t pos, std::size_t end) : buf_(buf), pos_(pos), end_(end) {}
-  template <typename T>
-  T get() {
-    static_assert(std::is_trivially_copyable_v<T>);
-    T v;
-    std::memcpy(&v, take(sizeof v), sizeof v);
-    return v;
-  }
-  template <typename T>
-  void get_array(std::vector<T>& v) {
-    const auto n = get<std::uint64_t>();
-    if (n > (end_ - pos_) / sizeof(T)) throw CheckpointRefused("checkpoint truncated (an array)");
-    v.resize(n);
-    if (n > 0) std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));  // data() may be null
-  }
-  // An array that must hold exactly n elements (a particle array).
-  template <typename T>
-  void get_array(std::vector<T>& v, std::size_t n, const char* what) {
-    get_array(v);
-    if (v.size() != n) {
-      throw CheckpointRefused(std::string("checkpoint damaged: ") + what + " holds " +
-                              std::to_string(v.size()) + " values for " + std::to_string(n) +
-                              " particles");
-    }
-  }
-  bool at_end() const { return pos_ == end_; }
-
- private:
-  const char* take(std::size_t n) {
-    if (n > end_ - pos_) throw CheckpointRefused("checkpoint truncated");
-    const char* p = buf_.data() + pos_;
-    pos_ += n;
-    return p;
-  }
-  const std::string& buf_;
-  std::size_t pos_, end_;
-};
-
-std::uint32_t crc_of(const char* data, std::size_t n) {
-  uLong crc = crc32(0L, Z_NULL, 0);
-  while (n > 0) {  // zlib takes the length as uInt
-    const uInt chunk = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
-    crc = crc32(crc, reinterpret_cast<const Bytef*>(data), chunk);
-    data += chunk, n -= chunk;
-  }
-  return static_cast<std::uint32_t>(crc);
-}
-
-void put_map(Out& o, const SpaceTimeMap& m) {
-  o.put(static_cast<std::int32_t>(m.n_rows));
-  o.put(static_cast<std::int32_t>(m.n_frames));
-  o.put(m.row_height);
-  o.put_array(m.values);
-}
-
-void get_map(In& in, SpaceTimeMap& m) {
-  m.n_rows = in.get<std::int32_t>();
-  m.n_frames = in.get<std::int32_t>();
-  m.row_height = in.get<double>();
-  in.get_array(m.values);
-  if (m.values.size() != static_cast<std::size_t>(m.n_rows) * static_cast<std::size_t>(m.n_frames)) {
-    throw CheckpointRefused("checkpoint damaged: a map's size does not match its rows and frames");
-  }
-}
-
-// The scene as the checkpoint compares it: everything but the thread count.
-json scene_identity(json scene) {
-  scene.erase("threads");
-  return scene;
-}
-
-// The first difference between the scene of a checkpoint and the scene to run, as text.
-std::string scene_difference(const json& theirs, const json& ours) {
-  for (const auto& [key, value] : ours.items()) {
-    if (!theirs.contains(key)) return key + " is not in the checkpoint's scene";
-    if (theirs[key] != value) {
-      return key + " is " + theirs[key].dump() + " there and " + value.dump() + " here";
-    }
-  }
-  for (const auto& [key, value] : theirs.items()) {
-    if (!ours.contains(key)) return key + " (" + value.dump() + ") is not a key of this engine's scene";
-  }
-  return "";
-}
-
-void write_file_atomically(const std::string& path, const std::string& data) {
-  const std::string tmp = path + ".tmp";
-  const auto fail = [&](const char* what) {
-    const std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(std::string("checkpoint ") + path + ": cannot " + what + ": " + why);
-  };
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail("create its temporary file");
-  std::size_t done = 0;
-  while (done < data.size()) {
-    const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      ::close(fd);
-      fail("write");
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    fail("flush");
-  }
-  ::close(fd);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename its temporary file");
-}
-
-std::string read_whole(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw CheckpointRefused("cannot read the checkpoint '" + path + "'");
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
-struct Parsed {
-  json header;
-  std::size_t payload_begin = 0, payload_end = 0;
-};
-
-// Magic, format version, checksum and header of a checkpoint held in memory.
-Parsed parse(const std::string& bytes, const std::string& path) {
-  const std::size_t fixed = sizeof kMagic + 2 * sizeof(std::uint32_t);
-  if (bytes.size() < fixed + sizeof(std::uint32_t) ||
-      std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
-    throw CheckpointRefused("'" + path + "' is not a compaction checkpoint");
-  }
-  In in(bytes, sizeof kMagic, bytes.size());
-  const auto format = in.get<std::uint32_t>();
-  if (format != kFormatVersion) {
-    throw CheckpointRefused("checkpoint format " + std::to_string(format) + ", this engine reads " +
-                            std::to_string(kFormatVersion));
-  }
-  const std::size_t end = bytes.size() - sizeof(std::uint32_t);
-  std::uint32_t stored;
-  std::memcpy(&stored, bytes.data() + end, sizeof stored);
-  if (crc_of(bytes.data(), end) != stored) {
-    throw CheckpointRefused("checkpoint damaged: its CRC-32 checksum does not match");
-  }
-  const auto header_bytes = in.get<std::uint32_t>();
-  if (header_bytes > end - fixed) throw CheckpointRefused("checkpoint truncated (header)");
-  Parsed out;
-  out.header = json::parse(bytes.begin() + fixed, bytes.begin() + fixed + header_bytes, nullptr,
-                           false);
-  if (!out.header.is_object()) throw CheckpointRefused("checkpoint damaged: its header is not JSON");
-  out.payload_begin = fixed + header_bytes;
-  out.payload_end = end;
-  return out;
-}
-
-CheckpointInfo info_of(const json& h, std::uint64_t bytes) {
-  CheckpointInfo info;
-  try {
-    info.engine_version = h.at("engine_version").get<std::string>();
-    info.source_revision = h.at("source_revision").get<std::string>();
-    info.step = h.at("step").get<std::int64_t>();
-    info.t = h.at("t").get<double>();
-    info.eps = h.at("eps").get<double>();
-    info.frames = h.at("frames").get<std::int64_t>();
-    info.threads = h.at("threads").get<int>();
-  } catch (const json::exception& e) {
-    throw CheckpointRefused(std::string("checkpoint damaged: header: ") + e.what());
-  }
-  info.bytes = bytes;
-  return info;
-}
-
 }  // namespace
 
 CheckpointInfo write_checkpoint(const std::string& path, const SceneParams& p, const State& s,
                                 const RunResult& r, const RunPosition& at,
                                 const std::string& movie_file) {
-  const auto t0 = std::chrono::steady_clock::now();
   const Particles& P = s.particles;
-  const json header = {{"engine_version", engine_version()},
-                       {"source_revision", source_revision()},
-                       {"scene", to_json(p)},
-                       {"step", s.clock.step},
-                       {"t", s.clock.t},
-                       {"eps", s.clock.t * s.setup.V / s.setup.h0},
-                       {"frames", at.frame},
-                       {"threads", p.threads},
-                       {"n_particles", P.n}};
-  const std::string header_text = header.dump();
-
-  Out o;
-  o.bytes().reserve(P.n * 150 + r.spacetime.values.size() * 8 + r.snapshots.size() * P.n * 20 +
-                    (1 << 16));
-  o.put_bytes(std::string(kMagic, sizeof kMagic));
-  o.put(kFormatVersion);
-  o.put(static_cast<std::uint32_t>(header_text.size()));
-  o.put_bytes(header_text);
-
-  // 1. clock and the last step's measures (the next step's rows and time step read them)
-  o.put(s.clock.t), o.put(s.clock.step), o.put(s.clock.top_impulse), o.put(s.clock.bottom_impulse);
-  o.put(s.clock.plate_work);
-  const StepMeasure& m = s.measure;
-  o.put(m.max_v2), o.put(m.y_min), o.put(m.y_max), o.put(m.x_min), o.put(m.x_max);
-  o.put(static_cast<std::uint8_t>(m.bad_jacobian));
-  // 2. the loop's position
-  o.put(at.frame), o.put(at.eps_frame_begin), o.put(at.snapshots_passed);
-  o.put(at.wall_seconds), o.put(at.loop_seconds);
-  // 3. particles
-  o.put(static_cast<std::uint64_t>(P.n)), o.put(P.mass), o.put(P.vol0);
-  o.put_array(P.x), o.put_array(P.y), o.put_array(P.vx), o.put_array(P.vy);
-  o.put_array(as_rows(P.C)), o.put_array(as_rows(P.Fe)), o.put_array(as_rows(P.tau));
-  o.put_array(P.dep), o.put_array(P.ep), o.put_array(P.x0);
-  o.put_array(P.strut), o.put_array(P.strut_mid);
-  o.put_array(P.nx), o.put_array(P.ny);  // split_fields' face normals, else empty
-  // 4. the result so far
-  o.put(r.eps_reached);
-  o.put(r.stage_seconds.p2g), o.put(r.stage_seconds.grid_update), o.put(r.stage_seconds.g2p);
-  o.put(r.stage_seconds.diagnostics);
-  o.put_array(r.frames);
-  put_map(o, r.spacetime);
-  put_map(o, r.velocity);
-  o.put(static_cast<std::uint64_t>(r.snapshots.size()));
-  for (const Snapshot& snap : r.snapshots) {
-    o.put(snap.eps);
-    o.put_array(snap.x), o.put_array(snap.y), o.put_array(snap.strain_rate);
-    o.put_array(snap.plastic_strain), o.put_array(snap.jacobian);
-  }
-  // 5. the movie written so far (its file is whole after each of its frames)
-  o.put(at.movie_frames);
-  std::string movie;
-  if (at.movie_frames > 0 && !movie_file.empty()) {
-    std::ifstream f(movie_file, std::ios::binary);
-    if (!f) throw std::runtime_error("checkpoint " + path + ": cannot read the movie " + movie_file);
-    movie.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  }
-  o.put(static_cast<std::uint64_t>(movie.size()));
-  o.put_bytes(movie);
-  o.put(crc_of(o.bytes().data(), o.bytes().size()));
-
-  write_file_atomically(path, o.bytes());
-  CheckpointInfo info = info_of(header, o.bytes().size());
-  info.write_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return info;
-}
-
-CheckpointInfo read_checkpoint_info(const std::string& path) {
-  const std::string bytes = read_whole(path);
-  return info_of(parse(bytes, path).header, bytes.size());
+  const std::size_t reserve = P.n * 150 + r.snapshots.size() * P.n * 20;
+  return checkpoint_file::write(path, p, s.clock, s.measure, s.clock.t * s.setup.V / s.setup.h0, P.n,
+                               r, at, movie_file, reserve, [&](Out& o) {
+    checkpoint_file::put_particle_set(o, P.n, P.mass, P.vol0);
+    o.put_array(P.x), o.put_array(P.y), o.put_array(P.vx), o.put_array(P.vy);
+    o.put_array(as_rows(P.C)), o.put_array(as_rows(P.Fe)), o.put_array(as_rows(P.tau));
+    o.put_array(P.dep), o.put_array(P.ep), o.put_array(P.x0);
+    o.put_array(P.strut), o.put_array(P.strut_mid);
+    o.put_array(P.nx), o.put_array(P.ny);  // split_fields' face normals, else empty
+  });
 }
 
 CheckpointInfo restore_checkpoint(const std::string& path, const SceneParams& p, State& s,
                                   RunResult& r, RunPosition& at, std::string* movie_bytes) {
-  const std::string bytes = read_whole(path);
-  const Parsed parsed = parse(bytes, path);
-  const CheckpointInfo info = info_of(parsed.header, bytes.size());
-  if (info.engine_version != engine_version()) {
-    throw CheckpointRefused("the checkpoint was written by engine " + info.engine_version +
-                            ", this is engine " + engine_version());
-  }
-  if (!parsed.header.contains("scene") || !parsed.header["scene"].is_object()) {
-    throw CheckpointRefused("checkpoint damaged: its header has no scene");
-  }
-  const std::string diff =
-      scene_difference(scene_identity(parsed.header["scene"]), scene_identity(to_json(p)));
-  if (!diff.empty()) throw CheckpointRefused("the checkpoint is of another scene: " + diff);
-
-  In in(bytes, parsed.payload_begin, parsed.payload_end);
-  s.clock.t = in.get<double>();
-  s.clock.step = in.get<std::int64_t>();
-  s.clock.top_impulse = in.get<double>();
-  s.clock.bottom_impulse = in.get<double>();
-  s.clock.plate_work = in.get<double>();
-  StepMeasure& m = s.measure;
-  m.max_v2 = in.get<double>(), m.y_min = in.get<double>(), m.y_max = in.get<double>();
-  m.x_min = in.get<double>(), m.x_max = in.get<double>();
-  m.bad_jacobian = in.get<std::uint8_t>() != 0;
-  at.frame = in.get<std::int64_t>();
-  at.eps_frame_begin = in.get<double>();
-  at.snapshots_passed = in.get<std::uint64_t>();
-  at.wall_seconds = in.get<double>();
-  at.loop_seconds = in.get<double>();
-
-  Particles& P = s.particles;
-  const auto n = in.get<std::uint64_t>();
-  const double mass = in.get<double>(), vol0 = in.get<double>();
-  if (n != P.n || mass != P.mass || vol0 != P.vol0) {
-    throw CheckpointRefused("the checkpoint's particles (" + std::to_string(n) +
-                            ") are not those this scene builds (" + std::to_string(P.n) + ")");
-  }
-  in.get_array(P.x, n, "x"), in.get_array(P.y, n, "y");
-  in.get_array(P.vx, n, "vx"), in.get_array(P.vy, n, "vy");
-  std::vector<Mat2> c, fe;
-  std::vector<Sym2> tau;
-  in.get_array(c, n, "C"), in.get_array(fe, n, "Fe"), in.get_array(tau, n, "tau");
-  set_from_rows(P.C, c), set_from_rows(P.Fe, fe), set_from_rows(P.tau, tau);
-  in.get_array(P.dep, n, "dep"), in.get_array(P.ep, n, "ep"), in.get_array(P.x0, n, "x0");
-  in.get_array(P.strut, n, "strut"), in.get_array(P.strut_mid, n, "strut_mid");
-  const std::size_t normals = s.setup.split_fields ? n : 0;
-  in.get_array(P.nx, normals, "nx"), in.get_array(P.ny, normals, "ny");
-
-  r.eps_reached = in.get<double>();
-  r.stage_seconds.p2g = in.get<double>();
-  r.stage_seconds.grid_update = in.get<double>();
-  r.stage_seconds.g2p = in.get<double>();
-  r.stage_seconds.diagnostics = in.get<double>();
-  in.get_array(r.frames);
-  get_map(in, r.spacetime);
-  get_map(in, r.velocity);
-  const auto n_snapshots = in.get<std::uint64_t>();
-  r.snapshots.clear();
-  for (std::uint64_t k = 0; k < n_snapshots; ++k) {
-    Snapshot& snap = r.snapshots.emplace_back();
-    snap.eps = in.get<double>();
-    in.get_array(snap.x, n, "a snapshot's x"), in.get_array(snap.y, n, "a snapshot's y");
-    in.get_array(snap.strain_rate, n, "a snapshot's strain rate");
-    in.get_array(snap.plastic_strain, n, "a snapshot's plastic strain");
-    in.get_array(snap.jacobian, n, "a snapshot's jacobian");
-  }
-  at.movie_frames = in.get<std::int64_t>();
-  std::vector<char> movie;
-  in.get_array(movie);
-  if (movie_bytes) movie_bytes->assign(movie.begin(), movie.end());
-  if (!in.at_end()) throw CheckpointRefused("checkpoint damaged: bytes left after its sections");
-  if (static_cast<std::int64_t>(r.frames.size()) != at.frame ||
-      r.spacetime.n_rows != s.grid.cells_y || s.clock.step != info.step) {
-    throw CheckpointRefused("checkpoint damaged: its sections disagree with its header");
-  }
-  return info;
+  return checkpoint_file::restore(path, p, s.clock, s.measure, s.particles.n, s.grid.cells_y, r,
+                                  at, movie_bytes, [&](In& in) {
+    Particles& P = s.particles;
+    const std::size_t n = P.n;
+    checkpoint_file::get_particle_set(in, n, P.mass, P.vol0);
+    in.get_array(P.x, n, "x"), in.get_array(P.y, n, "y");
+    in.get_array(P.vx, n, "vx"), in.get_array(P.vy, n, "vy");
+    std::vector<Mat2> c, fe;
+    std::vector<Sym2> tau;
+    in.get_array(c, n, "C"), in.get_array(fe, n, "Fe"), in.get_array(tau, n, "tau");
+    set_from_rows(P.C, c), set_from_rows(P.Fe, fe), set_from_rows(P.tau, tau);
+    in.get_array(P.dep, n, "dep"), in.get_array(P.ep, n, "ep"), in.get_array(P.x0, n, "x0");
+    in.get_array(P.strut, n, "strut"), in.get_array(P.strut_mid, n, "strut_mid");
+    const std::size_t normals = s.setup.split_fields ? n : 0;
+    in.get_array(P.nx, normals, "nx"), in.get_array(P.ny, normals, "ny");
+  });
 }
 
 }  // namespace compaction

@@ -1,26 +1,17 @@
-// Writing and restoring a run's checkpoint (schema/checkpoint-format.md): the state that
-// determines the rest of the run, taken between two time steps.
+// Writing and restoring a 2D run's checkpoint (schema/checkpoint-format.md): the state that
+// determines the rest of the run, taken between two time steps. The file's framing and the
+// sections every geometry shares: checkpoint_file.hpp; the 3D column's: checkpoint_3d.hpp.
 #pragma once
 
-#include <cstdint>
 #include <string>
 
+#include "checkpoint_file.hpp"
 #include "compaction/checkpoint.hpp"
 #include "compaction/params.hpp"
 #include "compaction/result.hpp"
 #include "state.hpp"
 
 namespace compaction {
-
-// Where the run loop stands between two steps, besides the state and the result so far.
-struct RunPosition {
-  std::int64_t frame = 0;         // frames closed
-  double eps_frame_begin = 0.0;   // imposed strain at which the open frame began       [-]
-  std::uint64_t snapshots_passed = 0;  // snapshot strains behind the recorder (FrameRecorder)
-  double wall_seconds = 0.0;      // wall time of the run's sessions before this one      [s]
-  double loop_seconds = 0.0;      // of which in the step loop                            [s]
-  std::int64_t movie_frames = 0;  // frames of the movie written (FrameRecorder)
-};
 
 // Writes the checkpoint to `path` atomically (a temporary file beside it, flushed, renamed over
 // it), with the bytes of the movie file written so far when at.movie_frames > 0 (a resumed run

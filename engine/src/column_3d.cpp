@@ -5,18 +5,8 @@
 
 namespace compaction {
 
-namespace {
-// The check comes before the scene is built: a refused run costs nothing.
-const SceneParams& without_checkpoints(const SceneParams& p, const RunControl& control) {
-  if (!control.checkpoint_file.empty() || !control.resume_file.empty()) {
-    throw std::invalid_argument("geometry: pseudo1d_3d has no checkpoints (yet)");
-  }
-  return p;
-}
-}  // namespace
-
-Column3D::Column3D(const SceneParams& p, const RunControl& control)
-    : p_(without_checkpoints(p, control)), s_(build_scene_3d(p)), recorder_(s_) {}
+Column3D::Column3D(const SceneParams& p, const RunControl&)
+    : p_(p), s_(build_scene_3d(p)), recorder_(s_) {}
 
 RunResult Column3D::start() const {
   RunResult r;
@@ -36,5 +26,17 @@ double Column3D::step_limit(double t_end) const {
 }
 
 std::string Column3D::check_frame(const Frame& f) const { return check_frame_3d(s_, f); }
+
+// The recorder holds no state between frames (it clears its rows in each), so the state, the
+// result and the position are all a resumed run needs.
+void Column3D::resume(const RunControl& control, RunResult& r, RunPosition& at) {
+  const CheckpointInfo resumed = restore_checkpoint_3d(control.resume_file, p_, s_, r, at);
+  if (control.on_resume) control.on_resume(resumed);
+}
+
+void Column3D::checkpoint(const RunControl& control, const RunResult& r, RunPosition at) {
+  const CheckpointInfo info = write_checkpoint_3d(control.checkpoint_file, p_, s_, r, at);
+  if (control.on_checkpoint) control.on_checkpoint(info);
+}
 
 }  // namespace compaction

@@ -1,15 +1,13 @@
 // The 3D column (geometry pseudo1d_3d) as the run loop drives it (run_loop.hpp): its state,
 // frame recorder and step (step_3d.cpp). Its RunResult has the 2D run's frames and maps
 // (diagnostics_3d.hpp); grid_nx counts the nodes across (x and z alike), grid_ny those along y.
-// One thread; no checkpoints yet (resume and checkpoint throw std::invalid_argument, and so
-// does the constructor when `control` asks for them); never a movie (validate() asks
-// movie_d_eps = 0).
+// One thread; checkpoints as 2D's (checkpoint_3d.hpp); never a movie or snapshots (validate()
+// asks movie_d_eps = 0 and no snapshot strains).
 #pragma once
 
-#include <stdexcept>
 #include <string>
 
-#include "checkpoint.hpp"
+#include "checkpoint_3d.hpp"
 #include "compaction/run_control.hpp"
 #include "diagnostics_3d.hpp"
 #include "state_3d.hpp"
@@ -31,14 +29,14 @@ class Column3D {
   const Clock& clock() const { return s_.clock; }
   std::size_t particles() const { return s_.particles.n; }
 
-  void resume(const RunControl&, RunResult&, RunPosition&) { no_checkpoints(); }
-  void checkpoint(const RunControl&, const RunResult&, RunPosition) { no_checkpoints(); }
+  // Goes on from control.resume_file: the state, the result so far and the loop's position.
+  void resume(const RunControl& control, RunResult& r, RunPosition& at);
+  // Writes control.checkpoint_file with the loop's position `at`.
+  void checkpoint(const RunControl& control, const RunResult& r, RunPosition at);
+
+  const State3D& state() const { return s_; }  // for tests: the particles a run ends with
 
  private:
-  [[noreturn]] static void no_checkpoints() {
-    throw std::invalid_argument("geometry: pseudo1d_3d has no checkpoints (yet)");
-  }
-
   const SceneParams& p_;
   State3D s_;
   FrameRecorder3D recorder_;

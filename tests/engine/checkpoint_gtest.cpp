@@ -5,23 +5,16 @@
 // engine version, damaged or not a checkpoint at all is refused with a reason. Exact: the
 // resumed run must repeat the same floating-point operations on the same bits.
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include <atomic>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <string>
 
-#include <unistd.h>
-
+#include "checkpoint_checks.hpp"
 #include "compaction/checkpoint.hpp"
 #include "compaction/simulation.hpp"
 
 namespace compaction {
 namespace {
-
-namespace fs = std::filesystem;
 
 // Small, with a perturbation (the seeded offsets are restored, not rebuilt) and two snapshots,
 // one before and one after the stops below. 10 frames, a few hundred steps.
@@ -32,93 +25,13 @@ SceneParams small_scene() {
   return p;
 }
 
-class CheckpointGtest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("checkpoint_gtest_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
-
-void expect_same_maps(const SpaceTimeMap& a, const SpaceTimeMap& b) {
-  EXPECT_EQ(a.n_rows, b.n_rows);
-  EXPECT_EQ(a.n_frames, b.n_frames);
-  EXPECT_EQ(a.row_height, b.row_height);
-  EXPECT_TRUE(a.values == b.values);
-}
-
-// Every output bit but the wall times.
-void expect_same_result(const RunResult& a, const RunResult& b) {
-  EXPECT_EQ(a.status, b.status);
-  EXPECT_EQ(a.reason, b.reason);
-  EXPECT_EQ(a.failed_step, b.failed_step);
-  EXPECT_EQ(a.n_particles, b.n_particles);
-  EXPECT_EQ(a.grid_nx, b.grid_nx);
-  EXPECT_EQ(a.grid_ny, b.grid_ny);
-  EXPECT_EQ(a.dx, b.dx);
-  EXPECT_EQ(a.phi_discrete, b.phi_discrete);
-  EXPECT_EQ(a.steps, b.steps);
-  EXPECT_EQ(std::memcmp(&a.dt_mean, &b.dt_mean, sizeof(double)), 0);
-  EXPECT_EQ(a.eps_reached, b.eps_reached);
-  ASSERT_EQ(a.frames.size(), b.frames.size());
-  for (std::size_t i = 0; i < a.frames.size(); ++i) {
-    EXPECT_EQ(std::memcmp(&a.frames[i], &b.frames[i], sizeof(Frame)), 0) << "frame " << i;
-  }
-  expect_same_maps(a.spacetime, b.spacetime);
-  expect_same_maps(a.velocity, b.velocity);
-  ASSERT_EQ(a.snapshots.size(), b.snapshots.size());
-  for (std::size_t i = 0; i < a.snapshots.size(); ++i) {
-    const Snapshot &x = a.snapshots[i], &y = b.snapshots[i];
-    EXPECT_EQ(x.eps, y.eps);
-    EXPECT_TRUE(x.x == y.x && x.y == y.y) << "snapshot " << i;
-    EXPECT_TRUE(x.strain_rate == y.strain_rate && x.plastic_strain == y.plastic_strain &&
-                x.jacobian == y.jacobian)
-        << "snapshot " << i;
-  }
-}
-
-// Runs from `resume` (or from the start) until the frame `stop_after_frame` closes, when a
-// cancel stops it and the runner writes its checkpoint to `checkpoint`.
-RunResult run_until_frame(const SceneParams& p, int stop_after_frame, const std::string& resume,
-                          const std::string& checkpoint) {
-  std::atomic<bool> cancel{false};
-  RunControl c;
-  c.cancel = &cancel;
-  c.resume_file = resume;
-  c.checkpoint_file = checkpoint;
-  c.on_progress = [&](const Progress& pr) {
-    if (pr.eps >= stop_after_frame * p.d_eps - 1e-12) cancel = true;
-  };
-  return run_scene(p, c);
-}
+using namespace checkpoint_checks;
+using CheckpointGtest = CheckpointFolder;
 
 RunResult resume_to_end(const SceneParams& p, const std::string& resume) {
   RunControl c;
   c.resume_file = resume;
   return run_scene(p, c);
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
-// Sets the CRC-32 trailer of an edited checkpoint, so that only the edit is wrong.
-void reseal(std::string& bytes) {
-  const std::size_t end = bytes.size() - 4;
-  const auto crc = static_cast<std::uint32_t>(
-      crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(bytes.data()),
-            static_cast<uInt>(end)));
-  std::memcpy(bytes.data() + end, &crc, 4);
 }
 
 TEST_F(CheckpointGtest, RunStoppedTwiceAndResumedGivesTheBitsOfAnUninterruptedRun) {
@@ -161,19 +74,10 @@ TEST_F(CheckpointGtest, RunResumedFromWithinAFrameGivesTheBitsOfAnUninterruptedR
   const RunResult whole = run_scene(p);
   ASSERT_EQ(whole.status, RunStatus::ok) << whole.reason;
 
-  // A checkpoint before every step; keep one taken after a step that did not close a frame
-  // (its plastic increments and plate impulses are half a frame's), past the first snapshot.
-  RunControl c;
-  c.checkpoint_file = path("every.ckpt");
-  c.checkpoint_every = 1e-12;
-  std::int64_t last_frames = -1, kept_step = -1;
-  c.on_checkpoint = [&](const CheckpointInfo& info) {
-    if (kept_step < 0 && info.eps > 0.007 && info.frames == last_frames) {
-      fs::copy_file(path("every.ckpt"), path("mid.ckpt"));
-      kept_step = info.step;
-    }
-    last_frames = info.frames;
-  };
+  // A checkpoint before every step; keep one taken within a frame, past the first snapshot.
+  std::int64_t kept_step = -1;
+  const RunControl c =
+      keep_one_within_a_frame(path("every.ckpt"), path("mid.ckpt"), 0.007, kept_step);
   expect_same_result(whole, run_scene(p, c));  // writing checkpoints changes nothing
   ASSERT_GT(kept_step, 0);
   const CheckpointInfo mid = read_checkpoint_info(path("mid.ckpt"));
@@ -252,13 +156,8 @@ TEST_F(CheckpointGtest, DamagedTruncatedOrForeignFilesAreRefused) {
   run_until_frame(p, 2, "", path("a.ckpt"));
   const std::string bytes = read_bytes(path("a.ckpt"));
   const auto refused_with = [&](const std::string& contents, const std::string& expected) {
-    write_bytes(path("bad.ckpt"), contents);
-    try {
-      resume_to_end(p, path("bad.ckpt"));
-      ADD_FAILURE() << "resumed a file that should be refused (" << expected << ")";
-    } catch (const CheckpointRefused& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
+    expect_refused([&](const std::string& file) { resume_to_end(p, file); }, path("bad.ckpt"),
+                   contents, expected);
   };
   std::string flipped = bytes;
   flipped[bytes.size() / 2] ^= 0x01;  // one bit of a particle array

@@ -105,5 +105,21 @@ check "resumed run exits 0" test $rc -eq 0
 check "resumed line" grep -q '"event":"resumed"' "$out/progress"
 check "resumed frames equal the uninterrupted run's" cmp -s "$out/b/frames.csv" "$out/f/frames.csv"
 check "resumed map equals the uninterrupted run's" cmp -s "$out/b/spacetime.npy" "$out/f/spacetime.npy"
+# the 3D column's checkpoints as 2D's: written before every step, the last one resumed
+col3d=(--geometry pseudo1d_3d --S 0.05 --R 1e-3 --phi 0.5 --n-rows 4 --cells-per-unit 6
+       --eps-end 0.01 --d-eps 0.002 --progress json)
+"$run" "${col3d[@]}" --out "$out/g3" > /dev/null 2> "$out/err"; rc=$?
+check "3D run exits 0" test $rc -eq 0
+"$run" "${col3d[@]}" --checkpoint "$out/c3.ckpt" --checkpoint-every 1e-9 --out "$out/h3" \
+  > "$out/progress" 2> "$out/err"; rc=$?
+check "3D run with checkpoints exits 0" test $rc -eq 0
+check "3D checkpoint lines" grep -q '"event":"checkpoint"' "$out/progress"
+"$run" "${col3d[@]}" --resume "$out/c3.ckpt" --out "$out/i3" > "$out/progress" 2> "$out/err"; rc=$?
+check "3D resumed run exits 0" test $rc -eq 0
+check "3D resumed line" grep -q '"event":"resumed"' "$out/progress"
+check "3D resumed frames equal the uninterrupted run's" cmp -s "$out/g3/frames.csv" "$out/i3/frames.csv"
+check "3D resumed map equals the uninterrupted run's" cmp -s "$out/g3/spacetime.npy" "$out/i3/spacetime.npy"
+"$run" "${col3d[@]}" --S 0.04 --resume "$out/c3.ckpt" --out "$out/j3" 2> "$out/err"; rc=$?
+check "3D checkpoint of another scene exits 4" test $rc -eq 4
 
 checks_done

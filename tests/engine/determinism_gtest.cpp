@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "compaction/simulation.hpp"
+#include "small_column_3d.hpp"
 
 namespace compaction {
 namespace {
@@ -35,10 +36,7 @@ TEST(DeterminismGtest, SameParametersAndSeedGiveIdenticalBits) {
 // The 3D column (one thread, loops in a fixed order): the same frames and maps, bit for bit,
 // past yield (R = 1e-3 at S = 0.05 yields in the first frames).
 TEST(DeterminismGtest, Pseudo1d3dRunGivesIdenticalBits) {
-  SceneParams p;
-  p.geometry = Geometry::pseudo1d_3d;
-  p.S = 0.05, p.R = 1e-3, p.phi = 0.5, p.n_rows = 4, p.cells_per_unit = 6, p.eps_end = 0.02;
-  p.d_eps = 0.002, p.snapshot_eps = {}, p.movie_d_eps = 0.0;
+  const SceneParams p = small_column_3d();
   const RunResult a = run_scene(p), b = run_scene(p);
   ASSERT_EQ(a.status, RunStatus::ok) << a.reason;
   ASSERT_EQ(a.frames.size(), 10u);

@@ -1,5 +1,5 @@
-// The 3D column's run loop: its stability checks (step and frame), cancellation, progress, and
-// the refusal of checkpoints it cannot write.
+// The 3D column's run loop: its stability checks (step and frame), cancellation, progress
+// (its checkpoints: checkpoint_3d_gtest).
 #include "compaction/simulation.hpp"
 #include "stability_3d.hpp"
 
@@ -7,20 +7,14 @@
 
 #include <atomic>
 #include <cmath>
-#include <stdexcept>
 
 #include "scene_builder_3d.hpp"
+#include "small_column_3d.hpp"
 
 namespace compaction {
 namespace {
 
-SceneParams small_column() {
-  SceneParams p;
-  p.geometry = Geometry::pseudo1d_3d;
-  p.S = 0.05, p.R = 1e-3, p.phi = 0.5, p.n_rows = 4, p.cells_per_unit = 6, p.eps_end = 0.02;
-  p.d_eps = 0.002, p.snapshot_eps = {}, p.movie_d_eps = 0.0;
-  return p;
-}
+SceneParams small_column() { return small_column_3d(); }
 
 TEST(Simulation3dGtest, StepCheckNamesInversionSpeedAndLeavingTheGrid) {
   State3D s = build_scene_3d(small_column());
@@ -67,12 +61,6 @@ TEST(Simulation3dGtest, ReportsProgressEveryFrameAndStopsWhenCancelled) {
   const RunResult c = run_scene(p, stop);
   EXPECT_EQ(c.status, RunStatus::cancelled);
   EXPECT_TRUE(c.frames.empty());
-}
-
-TEST(Simulation3dGtest, CheckpointsAreRefusedNotIgnored) {
-  RunControl control;
-  control.checkpoint_file = "/nonexistent/checkpoint.bin";
-  EXPECT_THROW(run_scene(small_column(), control), std::invalid_argument);
 }
 
 }  // namespace
