@@ -208,3 +208,76 @@ test('an adaptive sweep without resolution or budget takes the server\'s default
   assert.equal(est.status, 200, JSON.stringify(est.json));
   assert.equal(est.json.jobs, limits.adaptive.initial.S * limits.adaptive.initial.R);
 });
+
+test('replicates run each point n times with a perturbation: counted, sent as replicates, estimated with every run', async () => {
+  const rep = limits.replicates;
+  assert.deepEqual([rep.max_n, rep.perturbation.lo, rep.perturbation.hi], [100, 0, 0.5]);
+  const r = validateSweep({ ...base, repN: '3', repPert: '0.01' });
+  assert.equal(r.ok, true, JSON.stringify(r.errors));
+  assert.equal(r.count, 45); // 3 S x 5 R x 1 phi x 3 replicates
+  assert.equal(r.replicates, 3);
+  assert.deepEqual(r.body.replicates, { n: 3, perturbation: 0.01 });
+  assert.deepEqual(r.body.numerics, { preset: 'fast' }, 'the perturbation has one home: replicates');
+  assert.equal(validateSweep(base).body.replicates, undefined, 'no replicates without the fields');
+  // The server's estimate counts every replicate, as the form does.
+  const est = await harness.api('/sweeps/estimate', r.body);
+  assert.equal(est.status, 200, JSON.stringify(est.json));
+  assert.equal(est.json.jobs, 45);
+  const one = await harness.api('/sweeps/estimate', validateSweep(base).body);
+  assert.ok(Math.abs(est.json.cpu_seconds - 3 * one.json.cpu_seconds) < 1e-6 * est.json.cpu_seconds, `${est.json.cpu_seconds} is three times ${one.json.cpu_seconds}`);
+  // A random structure draws its voids from the seed: replicates without a perturbation.
+  const random = validateSweep({ ...base, preset: 'default', structure: 'random', repN: '2' });
+  assert.equal(random.ok, true, JSON.stringify(random.errors));
+  assert.deepEqual(random.body.replicates, { n: 2 });
+  // Adaptive: the initial grid is one run a point (the planner spends the replicates from the
+  // budget where the map asks for them), as the server counts it; the budget counts runs.
+  const a = validateAdaptive({ ...adaptiveBase, budget: '', repN: '2', repPert: '0.01' });
+  assert.equal(a.ok, true, JSON.stringify(a.errors));
+  assert.equal(a.count, 25);
+  assert.equal(a.replicates, 2);
+  assert.equal(a.body.adaptive.budget, 200);
+  assert.deepEqual(a.body.replicates, { n: 2, perturbation: 0.01 });
+  assert.equal((await harness.api('/sweeps/estimate', a.body)).json.jobs, 25);
+  const low = { ...adaptiveBase, budget: '20', repN: '2', repPert: '0.01' };
+  assert.match(validateAdaptive(low).errors.budget, /initial grid's 25 runs/);
+  const refused = await harness.api('/sweeps/estimate', { ...a.body, adaptive: { ...a.body.adaptive, budget: 20 } });
+  assert.equal(refused.status, 422, JSON.stringify(refused.json));
+  assert.equal(formFieldOf(refused.json.error.field), 'budget');
+});
+
+test('the form refuses replicates outside the ranges of /limits; the planner the rules that span fields, at the replicates fields', async () => {
+  const max = limits.replicates.max_n;
+  assert.match(validateSweep({ ...base, repN: '0', repPert: '0.01' }).errors['rep-n'], new RegExp(`1 to ${max}`));
+  assert.match(validateSweep({ ...base, repN: String(max + 1), repPert: '0.01' }).errors['rep-n'], new RegExp(`1 to ${max}`));
+  assert.ok(validateSweep({ ...base, repN: '2.5', repPert: '0.01' }).errors['rep-n']);
+  assert.match(validateSweep({ ...base, repPert: '0.01' }).errors['rep-n'], /how many/);
+  assert.match(validateSweep({ ...base, repN: '3', repPert: '0.7' }).errors['rep-pert'], /\[0, 0\.5\]/);
+  assert.equal(validateSweep({ ...base, repN: '1' }).ok, true, 'one run per point needs no perturbation');
+  assert.ok(validateSweep({ ...base, sN: '40', rN: '40', repN: '50', repPert: '0.01' }).errors.count, 'points x replicates against the sweep limit');
+  // A regular structure without a perturbation, and replicates beside seeds, span fields (and a
+  // preset may carry a perturbation): the form lets them through to the planner, which names
+  // the field; the page shows it there from the estimate's 422.
+  const spanning = [
+    [{ ...base, repN: '3' }, 'rep-pert', /is required: replicates of a regular structure/],
+    [{ ...base, repN: '3', repPert: '0' }, 'rep-pert', /is required/],
+    [{ ...base, preset: 'default', structure: 'random', seeds: '1, 2', repN: '2' }, 'seeds', /not both/],
+  ];
+  for (const [values, field, message] of spanning) {
+    const r = validateSweep(values);
+    assert.equal(r.ok, true, JSON.stringify(r.errors));
+    const res = await harness.api('/sweeps/estimate', r.body);
+    assert.equal(res.status, 422, `${JSON.stringify(r.body.replicates)}: ${JSON.stringify(res.json)}`);
+    assert.equal(formFieldOf(res.json.error.field), field, `${res.json.error.field} goes to ${field}`);
+    assert.match(res.json.error.message, message);
+  }
+  // What the server says of the bodies the form refuses, at the field the form maps.
+  const body = validateSweep(base).body;
+  for (const [replicates, field] of [[{ n: 0, perturbation: 0.01 }, 'rep-n'], [{ n: 3, perturbation: 0.7 }, 'rep-pert']]) {
+    const res = await harness.api('/sweeps/estimate', { ...body, replicates });
+    assert.equal(res.status, 422, `${JSON.stringify(replicates)}: ${JSON.stringify(res.json)}`);
+    assert.equal(formFieldOf(res.json.error.field), field, `${res.json.error.field} goes to ${field}`);
+  }
+  assert.equal(formFieldOf('replicates'), 'rep-n');
+  assert.equal(formFieldOf('replicates.n'), 'rep-n');
+  assert.equal(formFieldOf('replicates.perturbation'), 'rep-pert');
+});

@@ -98,6 +98,29 @@ function structureOf(v, sweep, numerics, oneSeed, errors) {
   return errors.seeds ? 1 : seeds.length;
 }
 
+// Replicates (docs/replicates.md): n runs of each point with the seeds 1..n, the particles
+// perturbed by a fraction of their spacing, in the ranges of GET /limits (replicates). Both
+// fields empty: none. What spans fields is the planner's to say, at the field it names (through
+// the estimate): a regular structure needs a perturbation (its own or its preset's), and
+// replicates exclude a list of seeds. Returns the runs per point and the request's replicates
+// (null without them).
+function replicatesOf(v, limits, errors) {
+  const nText = (v.repN || '').trim(), pText = (v.repPert || '').trim();
+  if (nText === '' && pText === '') return { perPoint: 1, replicates: null };
+  const rep = limits.replicates;
+  if (!rep) { errors['rep-n'] = 'this server does not take replicates'; return { perPoint: 1, replicates: null }; }
+  const n = num(nText);
+  if (nText === '') errors['rep-n'] = 'how many runs of each point';
+  else if (!isInt(n) || n < 1 || n > rep.max_n) errors['rep-n'] = `a whole number from 1 to ${rep.max_n}`;
+  const replicates = { n };
+  if (pText !== '') {
+    const p = num(pText);
+    if (!Number.isFinite(p) || !inside(rep.perturbation, p)) errors['rep-pert'] = `a fraction of the particle spacing in ${show(rep.perturbation)}`;
+    else replicates.perturbation = p;
+  }
+  return { perPoint: errors['rep-n'] ? 1 : n, replicates };
+}
+
 // An empty field takes `dflt`; otherwise a whole number in [lo, hi].
 function wholeIn(text, dflt, lo, hi, id, errors) {
   const n = (text || '').trim() === '' ? dflt : num(text);
@@ -114,7 +137,8 @@ function queueOf(v, sweep, errors) {
 }
 
 // values: strings of the form fields; limits: the server's GET /api/v1/limits.
-// Returns {errors: {fieldId: message}, body, count (points x seeds), dims}.
+// Returns {errors: {fieldId: message}, body, count (points x seeds x replicates), dims, seeds
+// and replicates (runs per point of each)}.
 export function validateSweep(v, limits) {
   const { sweep, scene } = limits;
   const errors = {};
@@ -123,12 +147,13 @@ export function validateSweep(v, limits) {
   const R = axis(v, 'r', 'R', scene.R, sweep.max_points, errors);
   const phis = phiValues(v, limits, errors);
   const numerics = numericsOf(v, scene, errors);
-  const perPoint = structureOf(v, sweep, numerics, false, errors);
+  const seeds = structureOf(v, sweep, numerics, false, errors);
+  const reps = replicatesOf(v, limits, errors);
   const queue = queueOf(v, sweep, errors);
 
   const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
   const nPhi = errors.phi ? 0 : phis.length;
-  const count = nS * nR * nPhi * perPoint;
+  const count = nS * nR * nPhi * seeds * reps.perPoint;
   if (count > sweep.max_points && !errors['s-n'] && !errors['r-n']) errors.count = `${count} jobs exceed the server's limit of ${sweep.max_points} per sweep`;
   const body = {
     name,
@@ -136,9 +161,10 @@ export function validateSweep(v, limits) {
     R: { min: R.min, max: R.max, n: R.n, scale: R.scale },
     phi: phis.length === 1 ? phis[0] : phis,
     numerics,
+    ...(reps.replicates ? { replicates: reps.replicates } : {}),
     ...queue,
   };
-  return { errors, body, count, dims: [nS, nR, nPhi], ok: Object.keys(errors).length === 0 };
+  return { errors, body, count, dims: [nS, nR, nPhi], seeds, replicates: reps.perPoint, ok: Object.keys(errors).length === 0 };
 }
 
 // An axis of the adaptive box: min < max inside the scene's range (the box is planned on log10),
@@ -156,9 +182,11 @@ function box(v, key, name, range, errors) {
 }
 
 // An adaptive sweep at one phi: the box and initial grid in S and R, the finest step, the budget
-// and the points open at once. The same values as validateSweep besides; the server checks the
-// rest (the resolution between 1/64 decade and the initial step) and names the field.
-// Returns {errors, body, count (the initial grid), budget, dims, ok}.
+// and the runs open at once. The same values as validateSweep besides; the server checks the
+// rest (the resolution between 1/64 decade and the initial step) and names the field. With
+// replicates the initial grid is still one run a point: the planner spends the others, up to n a
+// point, where the map asks for them (docs/adaptive.md), and the budget and in flight count runs.
+// Returns {errors, body, count (the initial grid's runs), budget, dims, replicates, ok}.
 export function validateAdaptive(v, limits) {
   const { sweep, scene } = limits;
   const errors = {};
@@ -169,6 +197,7 @@ export function validateAdaptive(v, limits) {
   if (!errors.phi && phis.length > 1) errors.phi = `an adaptive sweep maps one φ, got ${phis.length}`;
   const numerics = numericsOf(v, scene, errors);
   structureOf(v, sweep, numerics, true, errors);
+  const reps = replicatesOf(v, limits, errors);
   const queue = queueOf(v, sweep, errors);
 
   const nS = errors['s-n'] ? 0 : S.n, nR = errors['r-n'] ? 0 : R.n;
@@ -193,13 +222,15 @@ export function validateAdaptive(v, limits) {
     const hi = isInt(budget) && !errors.budget ? budget : sweep.max_points;
     adaptive.in_flight = wholeIn(v.inFlight, 0, 1, hi, 'in-flight', errors);
   }
-  const body = { name, phi: phis[0], numerics, ...queue, adaptive };
-  return { errors, body, count, budget, dims: [nS, nR, errors.phi ? 0 : 1], ok: Object.keys(errors).length === 0 };
+  const body = { name, phi: phis[0], numerics, ...(reps.replicates ? { replicates: reps.replicates } : {}), ...queue, adaptive };
+  return { errors, body, count, budget, dims: [nS, nR, errors.phi ? 0 : 1], replicates: reps.perPoint, ok: Object.keys(errors).length === 0 };
 }
 
 // Where a server error's field ("S.min", "adaptive.budget", "phi[1]", "numerics.eps_end", ...) goes in the form.
 export function formFieldOf(serverField) {
   const f = serverField || '';
+  if (f === 'replicates' || f.startsWith('replicates.n')) return 'rep-n';
+  if (f.startsWith('replicates.perturbation')) return 'rep-pert';
   const a = /^adaptive\.(?:(S|R)(?:\.(min|max))?|initial\.(S|R)|(resolution_decades|budget|in_flight))/.exec(f);
   if (a) {
     if (a[1]) return `${a[1].toLowerCase()}-${a[2] || 'min'}`;

@@ -6,7 +6,7 @@ import { validateSweep, validateAdaptive, formFieldOf } from '../sweepform.js';
 import { when, escapeHtml, duration } from '../format.js';
 
 const POLL_MS = 2500;
-const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'structure', 'seeds', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
+const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'structure', 'seeds', 'rep-n', 'rep-pert', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
 
 // A field of the form: its label, its input, its hint and the line for its error.
 function field(id, labelHtml, input, hint = '') {
@@ -50,6 +50,12 @@ function formHtml() {
             ${field('structure', 'Structure', '<select id="f-structure" name="structure"><option value="regular" selected>regular</option><option value="random">random</option></select>', 'random: void sizes and centres drawn from the seed')}
             ${field('seeds', 'Seeds', numIn('seeds', '', 'placeholder="1"'), byMode('random only; a list runs each point once per seed: 1, 2, 3', 'random only; one seed'))}
           </div>
+          <fieldset class="replicates-set"><legend>Replicates <span class="unit">optional: each point run n times, seeds 1..n, the particles perturbed</span></legend>
+            <div class="row2">
+              ${field('rep-n', 'runs per point <i>n</i>', numIn('rep-n', '', 'placeholder="1 (none)"'), 'the map then shows how often each class came out')}
+              ${field('rep-pert', 'perturbation <span class="unit">of the particle spacing</span>', numIn('rep-pert', '', 'placeholder="e.g. 0.01"'), 'needed by a regular structure')}
+            </div>
+          </fieldset>
           <fieldset class="adaptive-only"><legend>Refinement <span class="unit">on log S and log R</span></legend>
             <div class="row3">
               ${field('res', 'resolution <span class="unit">decades</span>', numIn('res', '', 'placeholder="server default"'), 'the finest step wanted')}
@@ -91,7 +97,7 @@ function pageHtml() {
     <div class="page-head">
       <h1>Sweeps</h1>
       <p class="sub">A sweep is a grid over the Mach number <i>S</i>, the relative strength <i>R</i> and the solid fraction φ.
-        Each point becomes one job; a point already computed with the same numerics is reused, not run again.
+        Each point becomes one job (<i>n</i> jobs with <i>n</i> replicates); a point already computed with the same numerics is reused, not run again.
         An adaptive sweep starts with a coarse grid over a box in <i>S</i> and <i>R</i> at one φ, and the server adds points where neighbouring results disagree, up to its budget.</p>
     </div>
     <div class="layout-sweeps">
@@ -125,7 +131,7 @@ function formValues($) {
   return {
     name: $('f-name').value, sMin: $('f-s-min').value, sMax: $('f-s-max').value, sN: $('f-s-n').value, sScale: $('f-s-scale').value,
     rMin: $('f-r-min').value, rMax: $('f-r-max').value, rN: $('f-r-n').value, rScale: $('f-r-scale').value,
-    phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, structure: $('f-structure').value, seeds: $('f-seeds').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
+    phi: $('f-phi').value, resolution: $('f-res').value, budget: $('f-budget').value, inFlight: $('f-in-flight').value, preset: $('f-preset').value, structure: $('f-structure').value, seeds: $('f-seeds').value, repN: $('f-rep-n').value, repPert: $('f-rep-pert').value, cps: $('f-cps').value, cpu: $('f-cpu').value, epsEnd: $('f-eps-end').value,
     snapshots: $('f-snapshots').value, movie: $('f-movie').value, priority: $('f-priority').value, attempts: $('f-attempts').value,
   };
 }
@@ -197,21 +203,24 @@ function update(page) {
   return r;
 }
 
-// The number of jobs the form makes: its factors for a grid, the initial grid and the budget for
-// an adaptive sweep.
+// The number of jobs the form makes: its factors (seeds and replicates each run a point again)
+// for a grid; the initial grid (one run a point) and the budget for an adaptive sweep, whose
+// replicates come out of the budget where the map asks for them.
 function showCount(cnt, r, adaptive) {
   const [a, b, c] = r.dims;
   cnt.dataset.count = String(r.count);
+  cnt.dataset.replicates = String(r.replicates || 1);
   const jobs = `<b>${r.count.toLocaleString()}</b> job${r.count === 1 ? '' : 's'}`;
   const countError = r.errors.count ? `<div class="field-error">${escapeHtml(r.errors.count)}</div>` : '';
   if (r.count <= 0) cnt.innerHTML = '<span class="muted">fix the ranges to see the number of jobs</span>';
   else if (!adaptive) {
-    const seeds = r.count / (a * b * c);
-    cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ${seeds > 1 ? ` × ${seeds} seeds` : ''}</span>${countError}`;
+    const reps = r.replicates > 1 ? ` × ${r.replicates} replicates` : '';
+    cnt.innerHTML = `${jobs} <span class="muted">= ${a} S × ${b} R × ${c} φ${r.seeds > 1 ? ` × ${r.seeds} seeds` : ''}${reps}</span>${countError}`;
   }
   else {
     const most = r.errors.budget ? '' : `, at most ${r.budget.toLocaleString()}`;
-    cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R</div>${countError}`;
+    const reps = r.replicates > 1 ? `; up to ${r.replicates} replicates a point where the map asks` : '';
+    cnt.innerHTML = `${jobs} to start${most}<div class="muted small">initial grid ${a} S × ${b} R${reps}</div>${countError}`;
   }
 }
 
@@ -242,7 +251,9 @@ async function submit(page, ev) {
     const phi = sweep.phis?.[0] ?? 0.4;
     msg.className = 'form-message ok';
     const budget = sweep.request.adaptive?.budget;
-    msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs (${sweep.counts.succeeded} already computed)${budget ? `; the server adds points up to ${budget} as results arrive` : ''}. <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
+    const n = sweep.request.replicates?.n;
+    const reps = n > 1 ? (budget ? ` (up to ${n} replicates a point where the map asks)` : ` (${n} replicates of each point)`) : '';
+    msg.innerHTML = `Sweep <b>#${sweep.id}</b> created with ${sweep.counts.total} jobs${reps} (${sweep.counts.succeeded} already computed)${budget ? `; the server adds points up to ${budget} runs as results arrive` : ''}. <a href="#/map?phi=${phi}&sweep=${sweep.id}">Watch it on the phase map →</a>`;
     page.submitted = false;
     page.touched.clear();
     refresh(page);
@@ -402,9 +413,10 @@ function sweepRowHtml(s) {
     : rq.points ? `${rq.points.length} points` : `${axisText(rq.S)} S × ${axisText(rq.R)} R × ${(s.phis || []).length} φ`;
   // An adaptive sweep's total grows as the server adds points, up to its budget.
   const of = ad ? `<span class="budget" data-budget="${ad.budget}">${c.total} of at most ${ad.budget} runs</span>` : `of ${c.total}`;
+  const reps = rq.replicates ? `<div class="muted">× ${rq.replicates.n} replicates${rq.replicates.perturbation !== undefined ? `, perturbation ${rq.replicates.perturbation}` : ''}</div>` : '';
   return `<tr data-sweep="${s.id}" class="sw-${s.state}">
     <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}${rq.numerics?.structure === 'random' ? ` · random structure, ${rq.numerics.seeds ? `${rq.numerics.seeds.length} seeds` : `seed ${rq.numerics.seed ?? 1}`}` : ''}</div></td>
-    <td class="small">${grid}<div class="muted">φ = ${(s.phis || []).join(', ')}</div></td>
+    <td class="small">${grid}<div class="muted">φ = ${(s.phis || []).join(', ')}</div>${reps}</td>
     <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
     <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
       ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
