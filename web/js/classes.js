@@ -60,7 +60,7 @@ export function confidenceFade(c) {
 // canvas parse one per marker and doubled the render of 10,000 points.
 const FADE_STEPS = 64;
 const faded = new Map();
-function fadeColor(hex, t) {
+export function fadeColor(hex, t) {
   const step = Math.round(t * FADE_STEPS);
   const key = `${hex}${step}`;
   let c = faded.get(key);
@@ -72,6 +72,31 @@ function fadeColor(hex, t) {
   }
   return c;
 }
+
+// Adds the outline of a class's filled shape (circle, square, diamond, triangle, triangleDown,
+// hexagon; anything else a circle) centred at (x, y) with radius r to ctx's path, as a subpath
+// of its own (several shapes may share one path).
+function shapePath(ctx, shape, x, y, r) {
+  switch (shape) {
+    case 'square': ctx.rect(x - r * 0.88, y - r * 0.88, r * 1.76, r * 1.76); break;
+    case 'diamond': ctx.moveTo(x, y - r * 1.2); ctx.lineTo(x + r * 1.2, y); ctx.lineTo(x, y + r * 1.2); ctx.lineTo(x - r * 1.2, y); ctx.closePath(); break;
+    case 'triangle': ctx.moveTo(x, y - r * 1.2); ctx.lineTo(x + r * 1.1, y + r * 0.8); ctx.lineTo(x - r * 1.1, y + r * 0.8); ctx.closePath(); break;
+    case 'triangleDown': ctx.moveTo(x, y + r * 1.2); ctx.lineTo(x + r * 1.1, y - r * 0.8); ctx.lineTo(x - r * 1.1, y - r * 0.8); ctx.closePath(); break;
+    case 'hexagon':
+      for (let k = 0; k < 6; k++) {
+        const a = Math.PI / 6 + (k * Math.PI) / 3;
+        k ? ctx.lineTo(x + r * 1.1 * Math.cos(a), y + r * 1.1 * Math.sin(a)) : ctx.moveTo(x + r * 1.1 * Math.cos(a), y + r * 1.1 * Math.sin(a));
+      }
+      ctx.closePath(); break;
+    default: ctx.moveTo(x + r, y); ctx.arc(x, y, r, 0, 2 * Math.PI); // a subpath of its own
+  }
+}
+
+// The circle inside each filled shape of shapePath, in units of r: its centre's offset down
+// [dy] and its radius [inradius] (the triangles' incircles sit towards their bases).
+export const INCIRCLE = {
+  circle: [0, 1], square: [0, 0.88], diamond: [0, 0.85], triangle: [0.15, 0.65], triangleDown: [-0.15, 0.65], hexagon: [0, 0.95],
+};
 
 // Draws one marker of a category centred at (x, y) with radius r on a 2D canvas context (or an
 // SvgPathContext). fade: towards white (confidenceFade); ring: a class whose colour rings the
@@ -85,17 +110,6 @@ export function drawMarker(ctx, cat, x, y, r, progress = 0, fade = 0, ring = nul
   }
   ctx.beginPath();
   switch (lk.shape) {
-    case 'circle': ctx.arc(x, y, r, 0, 2 * Math.PI); break;
-    case 'square': ctx.rect(x - r * 0.88, y - r * 0.88, r * 1.76, r * 1.76); break;
-    case 'diamond': ctx.moveTo(x, y - r * 1.2); ctx.lineTo(x + r * 1.2, y); ctx.lineTo(x, y + r * 1.2); ctx.lineTo(x - r * 1.2, y); ctx.closePath(); break;
-    case 'triangle': ctx.moveTo(x, y - r * 1.2); ctx.lineTo(x + r * 1.1, y + r * 0.8); ctx.lineTo(x - r * 1.1, y + r * 0.8); ctx.closePath(); break;
-    case 'triangleDown': ctx.moveTo(x, y + r * 1.2); ctx.lineTo(x + r * 1.1, y - r * 0.8); ctx.lineTo(x - r * 1.1, y - r * 0.8); ctx.closePath(); break;
-    case 'hexagon':
-      for (let k = 0; k < 6; k++) {
-        const a = Math.PI / 6 + (k * Math.PI) / 3;
-        k ? ctx.lineTo(x + r * 1.1 * Math.cos(a), y + r * 1.1 * Math.sin(a)) : ctx.moveTo(x + r * 1.1 * Math.cos(a), y + r * 1.1 * Math.sin(a));
-      }
-      ctx.closePath(); break;
     case 'hollow':
       ctx.arc(x, y, r * 0.9, 0, 2 * Math.PI);
       ctx.fillStyle = '#ffffff'; ctx.fill();
@@ -121,7 +135,7 @@ export function drawMarker(ctx, cat, x, y, r, progress = 0, fade = 0, ring = nul
       ctx.fillStyle = '#ffffff'; ctx.fill(); ctx.lineWidth = 1.6; ctx.strokeStyle = lk.color; ctx.stroke();
       ctx.beginPath(); ctx.moveTo(x, y - r * 0.45); ctx.lineTo(x, y + r * 0.2); ctx.moveTo(x, y + r * 0.45); ctx.lineTo(x, y + r * 0.55); ctx.stroke();
       return;
-    default: ctx.arc(x, y, r, 0, 2 * Math.PI);
+    default: shapePath(ctx, lk.shape, x, y, r);
   }
   ctx.fillStyle = fade > 0 ? fadeColor(lk.color, fade) : lk.color;
   ctx.fill();

@@ -1,9 +1,10 @@
 // The phase map as a file: one standalone SVG with the axes, the predicted regions (an image of
-// their cells), the markers as vectors (drawn by the canvas's own drawMarker through
+// their cells), the markers as vectors (drawn by the canvas's own drawPointMark through
 // SvgPathContext), the overlays and the legend; PNG is that SVG rendered at twice its size.
 import { svgEl } from './plot.js';
 import { SvgPathContext } from './svgcanvas.js';
 import { drawMarker } from './classes.js';
+import { drawPointMark } from './points.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 // Style properties the page's CSS gives the plot's SVG (classes .ticklabel, .gridline, ...),
@@ -28,8 +29,9 @@ function inlined(node) {
 }
 
 // The standalone SVG element of the map. figure: { plot, markers: [{cat, x, y, r, progress,
-// fade, ring}], regions: {x0, y0, x1, y1, image} | null, legend: [{cat, name, count, fade, ring}
-// or {color: [r, g, b], name}], title, note: lines of text under the legend }.
+// fade, ring, split, unsettled, human}], regions: {x0, y0, x1, y1, image} | null, legend: [{cat,
+// name, count}, {mark: {cat, fade, ring, split, unsettled}, name} or {color: [r, g, b], name}],
+// title, note: lines of text under the legend }.
 export function mapSvg(figure) {
   const { plot, markers, regions, legend, title, note } = figure;
   const w = Number(plot.svg.getAttribute('width')), h = Number(plot.svg.getAttribute('height'));
@@ -59,7 +61,7 @@ export function mapSvg(figure) {
   const marks = svgEl('g', { 'data-layer': 'markers' }, area);
   for (const m of markers) {
     const g = svgEl('g', { 'data-cat': m.cat }, marks);
-    drawMarker(new SvgPathContext(g), m.cat, plot.m.l + m.x, plot.m.t + m.y, m.r, m.progress, m.fade, m.ring);
+    drawPointMark(new SvgPathContext(g), { ...m, x: plot.m.l + m.x, y: plot.m.t + m.y });
   }
   // The frame again over the background, as on the page (the canvas sits inside it).
   svgEl('rect', { x: plot.m.l, y: plot.m.t, width: plot.pw, height: plot.ph, fill: 'none', stroke: '#1d2433', 'stroke-width': 1 }, svg);
@@ -74,9 +76,12 @@ export function mapSvg(figure) {
     const y = 52 + k * rowH;
     if (item.color) {
       svgEl('rect', { x: x0 + 2, y: y - 10, width: 14, height: 11, fill: `rgb(${item.color.join(',')})`, stroke: '#d5d9e0' }, lg);
+    } else if (item.mark) {
+      const g = svgEl('g', { 'data-cat': item.mark.cat }, lg);
+      drawPointMark(new SvgPathContext(g), { ...item.mark, x: x0 + 9, y: y - 4, r: 6 });
     } else {
       const g = svgEl('g', { 'data-cat': item.cat }, lg);
-      drawMarker(new SvgPathContext(g), item.cat, x0 + 9, y - 4, 6, 0.6, item.fade || 0, item.ring || null);
+      drawMarker(new SvgPathContext(g), item.cat, x0 + 9, y - 4, 6, 0.6);
     }
     svgEl('text', { x: x0 + 24, y }, lg).textContent = item.name;
     const c = svgEl('text', { x: w + LEGEND_W - 14, y, 'text-anchor': 'end' }, lg);

@@ -1,11 +1,14 @@
-// Phase map: log10 S against log10 R at one phi, one marker per run coloured by its class
-// (Fig. 2 of the paper), over the regions the labelled runs predict, live while sweeps run.
-// Canvas for the background and the markers (10,000 stay fast), SVG for axes and overlays.
-// Hover: a tooltip with the run's numbers (or the prediction under the mouse); click: the
-// run's page. Export: SVG and PNG of the figure with its legend.
-import { drawHumanMark, humanTipRows } from '../humanlabels.js';
+// Phase map: log10 S against log10 R at one phi, one marker per point (a computation up to its
+// seed: its runs are its replicates, docs/replicates.md) coloured by its class (Fig. 2 of the
+// paper), over the regions the labelled runs predict, live while sweeps run. Canvas for the
+// background and the markers (10,000 stay fast), SVG for axes and overlays. Hover: a tooltip
+// with the point's numbers (or the prediction under the mouse); click: the run's page, or for a
+// point of several runs its tooltip pinned with a link to each. Export: SVG and PNG of the
+// figure with its legend.
+import { humanTipRows } from '../humanlabels.js';
 import { api } from '../api.js';
-import { CLASSES, STATES, category, confidenceFade, drawMarker, label, look, swatch } from '../classes.js';
+import { CLASSES, STATES, confidenceFade, label, look, swatch } from '../classes.js';
+import { drawPointMark, drawPointMarks, majorityCount, mapPoints, notRobustWhy, probabilitiesHtml, runLinksHtml, spreadText } from '../points.js';
 import { cellAt, cellColor, drawRegions } from '../regions.js';
 import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
@@ -38,22 +41,24 @@ function pageHtml() {
           <select id="map-sweep" aria-label="sweep"><option value="">all sweeps</option></select></label>
         <label class="check"><input type="checkbox" id="map-buckling"><span>buckling onset <i>R</i><sub>crit</sub> = π²<i>a</i>²/12</span></label>
         <label class="check"><input type="checkbox" id="map-regions"><span>predicted regions (background)</span></label>
+        <label class="check"><input type="checkbox" id="map-robust"><span>robust points only <span class="muted">(replicates all agree)</span></span></label>
         <div class="export-row"><span>Export</span>
           <button type="button" class="small" id="map-export-svg">SVG</button>
           <button type="button" class="small" id="map-export-png">PNG</button></div>
         <h2 class="legend-title">Legend</h2>
         <ul class="legend" id="map-legend"></ul>
         <ul class="legend legend-keys" id="map-keys"></ul>
-        <p class="hint">Hover a marker for its numbers, click it to open the run.</p>
+        <p class="hint">Hover a marker for its numbers, click it to open the run (a point of several runs: its list of runs).</p>
       </aside>
     </div>`;
 }
 
-// Runs at one (S, R) (other numerics, other sweeps) are set around their place, evenly on a
-// circle of SPREAD radii, the coarsest grid first at the top, so none hides another.
+// Points at one (S, R) (other numerics, or perturbed and unperturbed runs) are set around their
+// place, evenly on a circle of SPREAD radii, the coarsest grid first at the top, so none hides
+// another.
 const SPREAD = 1.15;
 function placeOffsets(pts, r) {
-  const bySR = new Map(); // S -> R -> the runs there
+  const bySR = new Map(); // S -> R -> the points there
   let places = 0;
   for (const p of pts) {
     let byR = bySR.get(p.S);
@@ -65,7 +70,7 @@ function placeOffsets(pts, r) {
   const off = new Map();
   for (const byR of bySR.values()) for (const g of byR.values()) {
     if (g.length < 2) continue;
-    g.sort((a, b) => a.cells_per_unit - b.cells_per_unit || a.job_id - b.job_id);
+    g.sort((a, b) => a.cells_per_unit - b.cells_per_unit || a.id - b.id);
     g.forEach((p, k) => {
       const a = -Math.PI / 2 + (2 * Math.PI * k) / g.length;
       off.set(p, [SPREAD * r * Math.cos(a), SPREAD * r * Math.sin(a)]);
@@ -80,7 +85,7 @@ function placeOffsets(pts, r) {
 function drawPoints(plot, pts) {
   const r = markerRadius(pts.length);
   const { off, places } = placeOffsets(pts, r);
-  const drawn = pts.map((p) => ({ p, cat: category(p) }));
+  const drawn = pts.map((p) => ({ p, cat: p.cat }));
   drawn.sort((a, b) => (ORDER[a.cat] ?? 9) - (ORDER[b.cat] ?? 9) || a.p.cells_per_unit - b.p.cells_per_unit);
   const positions = new Float32Array(drawn.length * 2); // [x, y] per drawn point (canvas pixels)
   const counts = {};
@@ -91,13 +96,9 @@ function drawPoints(plot, pts) {
     const x = plot.cx(p.S) + dx, y = plot.cy(p.R) + dy;
     positions[2 * i] = x; positions[2 * i + 1] = y;
     counts[cat] = (counts[cat] || 0) + 1;
-    const progress = p.progress_eps !== null && p.eps_end > 0 ? p.progress_eps / p.eps_end : 0;
-    const fade = CLASSES[cat] ? confidenceFade(p.confidence) : 0;
-    const ring = cat === 'unclassified' ? p.runner_up : null;
-    drawMarker(plot.ctx, cat, x, y, r, progress, p.human_label ? 0 : fade, ring);
-    if (p.human_label) drawHumanMark(plot.ctx, x, y, r);
-    markers.push({ cat, x, y, r, progress, fade, ring });
+    markers.push({ cat, x, y, r, progress: p.progress, fade: p.fade, ring: p.ring, split: p.split, unsettled: p.unsettled, human: p.human });
   }
+  drawPointMarks(plot.ctx, markers);
   return { drawn, positions, counts, radius: r, markers, places };
 }
 
@@ -160,10 +161,16 @@ function renderLegend(legend, counts) {
 }
 
 // The keys below the legend: marker fading by confidence, the runner-up ring of an unclassified
-// run, and the background's tint and grey when it is shown.
-function keyItems(regions) {
-  const items = [0.95, 0.5, 0.05].map((c) => ({ kind: 'confidence', cat: 'a', fade: confidenceFade(c), text: `confidence ${c}` }));
-  items.push({ kind: 'runner-up', cat: 'unclassified', ring: 'b', text: 'unclassified, ringed by its runner-up' });
+// run, a split and an unsettled point when some point has replicates, and the background's tint
+// and grey when it is shown.
+function keyItems(regions, replicated) {
+  const items = [0.95, 0.5, 0.05].map((c) => ({ kind: 'confidence', mark: { cat: 'a', fade: confidenceFade(c) }, text: `confidence ${c}` }));
+  items.push({ kind: 'runner-up', mark: { cat: 'unclassified', ring: 'b' }, text: 'unclassified, ringed by its runner-up' });
+  if (replicated) {
+    // The pie's key larger and without its ring (the next key's), so that the pie reads.
+    items.push({ kind: 'split', mark: { cat: 'a', split: [['a', 0.75], ['b', 0.25]], r: 6.6 }, text: 'replicates split: pie of their classes (a 3 of 4)' });
+    items.push({ kind: 'unsettled', mark: { cat: 'a', unsettled: true }, text: 'dashed: not robust (replicates split, failed or pending)' });
+  }
   if (regions) {
     items.push({ kind: 'region', color: cellColor('a', 0), text: 'background: predicted class' });
     items.push({ kind: 'uncertain', color: cellColor('a', 1), text: 'grey: uncertain prediction' });
@@ -182,10 +189,10 @@ function renderKeys(list, items) {
       sw.className = 'swatch region-swatch';
       sw.style.background = `rgb(${it.color.join(',')})`;
     } else {
-      sw = swatch(it.cat);
+      sw = swatch(it.mark.cat);
       const ctx = sw.getContext('2d');
       ctx.clearRect(0, 0, 16, 16);
-      drawMarker(ctx, it.cat, 8, 8, 4.6, 0, it.fade || 0, it.ring || null);
+      drawPointMark(ctx, { r: 4.6, ...it.mark, x: 8, y: 8 });
     }
     const name = document.createElement('span');
     name.className = 'legend-name';
@@ -195,11 +202,42 @@ function renderKeys(list, items) {
   }
 }
 
-function summaryHtml(counts, total, phi, places) {
+// The footer: how many points (and runs, when some point has replicates) at how many places,
+// labelled, pending and robust; what the robust-only control hides.
+function summaryHtml(counts, pts, phi, places, hidden) {
+  const total = pts.length;
+  const runs = pts.reduce((a, p) => a + p.runs.length, 0);
   const labelled = Object.keys(CLASSES).reduce((a, k) => a + (counts[k] || 0), 0);
   const pending = (counts.queued || 0) + (counts.running || 0);
-  const shared = total > places ? ` at ${places.toLocaleString()} places (runs at one place are set around it)` : '';
-  return `<b>${total.toLocaleString()}</b> runs${shared} at φ = ${phi} · ${labelled} labelled · ${pending} pending`;
+  const what = runs === total && !hidden ? 'runs' : `points${runs !== total ? ` (${runs.toLocaleString()} runs)` : ''}`;
+  const shared = total > places ? ` at ${places.toLocaleString()} places (${what === 'runs' ? 'runs' : 'points'} at one place are set around it)` : '';
+  const robust = pts.some((p) => p.runs.length > 1) ? ` · ${pts.filter((p) => p.robust).length} robust` : '';
+  const only = hidden ? ` · robust only: ${hidden.toLocaleString()} other point${hidden === 1 ? '' : 's'} hidden` : '';
+  return `<b>${total.toLocaleString()}</b> ${what}${shared} at φ = ${phi} · ${labelled} labelled · ${pending} pending${robust}${only}`;
+}
+
+// The tooltip of a point of several runs: its majority and share, the classes of its
+// replicates, its robustness, its readings as mean ± sd (n) and a link to each run.
+function pointTipHtml(pt, numerics, pinned) {
+  const { s, runs, cat } = pt;
+  const labelled = s.labelled ?? 0;
+  const cls = CLASSES[cat] ? `<span class="dot" style="background:${CLASSES[cat].color}"></span>${escapeHtml(label(cat))}` : escapeHtml(look(cat).name);
+  const rows = [
+    ['S', sci(pt.S)], ['R', sci(pt.R)], ['φ', s.phi],
+    ['class', `${cls}${CLASSES[cat] ? ' <span class="muted-tt">(majority)</span>' : ''}`],
+    ['share', s.share === null || s.share === undefined ? '—' : `${fixed(s.share, 2)} <span class="muted-tt">(${majorityCount(s)} of ${labelled} labelled)</span>`],
+    ['classes', probabilitiesHtml(s.probabilities)],
+    ['robust', s.robust ? 'yes: every replicate finished with this class' : `no: ${notRobustWhy(s)}`],
+    ['runs', `${s.runs} · ${s.finished} finished · ${labelled} labelled`],
+    ['<i>N</i><sub>r</sub>', spreadText(s.n_reflections, 2)],
+    ['<i>c</i><sub>b</sub>/<i>V</i>', spreadText(s.band_speed_ratio, 3)],
+    ['numerics', numerics],
+  ];
+  const head = `point ${s.point_id} · ${s.runs} runs${s.robust ? ' · <span class="robust-tag">robust</span>' : ''}`;
+  const close = pinned ? '<button type="button" class="tt-close" aria-label="close">×</button>' : '';
+  const foot = pinned ? '' : '<div class="tt-foot">click to pin, then open a run</div>';
+  return `<div class="tt-head">${close}${head}</div><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('')}</table>
+    <div class="tt-runs">${runLinksHtml(runs)}</div>${foot}`;
 }
 
 function tooltipHtml(p, cat, numerics) {
@@ -235,16 +273,21 @@ function regionTipHtml(cell) {
   return `<div class="tt-head">predicted region</div><table><tr><th>class</th><td>${what}</td></tr><tr><th>uncertainty</th><td>${fixed(cell.u, 2)}</td></tr></table>`;
 }
 
-// For the browser tests and the render benchmark (bench/dashboard).
-function publishRender(root, phi, ms, plot, { drawn, positions, counts, radius, markers }, regions) {
+// For the browser tests and the render benchmark (bench/dashboard): a marker per point, with its
+// first run's id (job_id: the run of a point of one run) and all its runs (jobs).
+function publishRender(root, state, ms, plot, { drawn, positions, counts, radius, markers }, regions) {
   const hook = (window.__dashboard ||= { renders: [] });
   hook.renders.push(ms);
   hook.renderedAt = performance.now();
   hook.phaseMap = {
-    phi, count: drawn.length, counts, renderMs: ms, radius,
+    phi: state.phi, robustOnly: state.robust, count: drawn.length, runs: drawn.reduce((a, d) => a + d.p.runs.length, 0), counts, renderMs: ms, radius,
     area: { width: plot.pw, height: plot.ph }, // the canvas over the plot area, in CSS pixels
     regions: regions ? { grid: regions.data.grid, runs: regions.data.runs, x0: regions.x0, y0: regions.y0, x1: regions.x1, y1: regions.y1 } : null,
-    points: drawn.map(({ p, cat }, i) => ({ job_id: p.job_id, cat, color: look(cat).color, x: positions[2 * i], y: positions[2 * i + 1], fade: markers[i].fade, ring: markers[i].ring })),
+    points: drawn.map(({ p, cat }, i) => ({
+      point_id: p.id, job_id: p.runs[0].job_id, jobs: p.runs.map((q) => q.job_id), cat, color: look(cat).color,
+      x: positions[2 * i], y: positions[2 * i + 1], fade: markers[i].fade, ring: markers[i].ring,
+      share: p.s.share ?? null, probabilities: p.s.probabilities ?? null, robust: p.robust, unsettled: p.unsettled, split: p.split,
+    })),
   };
   root.dispatchEvent(new CustomEvent('phasemap:rendered', { bubbles: true, detail: { ms, count: drawn.length } }));
 }
@@ -262,28 +305,32 @@ function createPage(root, params) {
       sweep: params.sweep || '',
       buckling: params.buckling !== '0',
       regions: params.regions !== '0',
-      points: [], signature: '', answer: null, presets: [], sweeps: [], updated: null, error: null,
+      robust: params.robust === '1', // robust points only
+      // The answer's runs and its points (points.js: mapPoints), and what they were read from.
+      runs: [], points: [], signature: '', answer: null, presets: [], sweeps: [], updated: null, error: null,
       // The last /phase-map/regions answer, the filters it is for, and what it was read from.
       regionData: null, regionFor: '', regionKey: '',
     },
     el: {
       plotBox: $('map-plot'), summary: $('map-summary'), live: $('map-live'),
-      phi: $('map-phi'), cpu: $('map-cpu'), sweep: $('map-sweep'), buckling: $('map-buckling'), regions: $('map-regions'),
+      phi: $('map-phi'), cpu: $('map-cpu'), sweep: $('map-sweep'), buckling: $('map-buckling'), regions: $('map-regions'), robust: $('map-robust'),
       exportSvg: $('map-export-svg'), exportPng: $('map-export-png'), legend: $('map-legend'), keys: $('map-keys'),
     },
     tooltip: document.getElementById('tooltip'),
     // What the last render drew: the plot, the points in draw order with their canvas positions
     // (Float32Array [x, y] per point), the regions shown and the figure for the export.
     shown: { plot: null, drawn: [], positions: null, regions: null, figure: null },
+    pinned: null, // the point whose tooltip is pinned (its runs' links can be clicked), or null
     alive: true,
     timer: null, // the next poll
     resizeTimer: null, // the redraw a moment after the last resize
     onResize: null,
+    onKey: null,
   };
 }
 
 function syncUrl(state) {
-  setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0' });
+  setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0', robust: state.robust ? '1' : '' });
 }
 
 // The phis of every sweep and the chosen one (without one: the newest sweep's first, else 0.4).
@@ -309,7 +356,7 @@ function fillSweepOptions(state, select) {
 // gives it: the fewest cells per unit cell that reach the preset's cells across the strut, so
 // the grid's own count is at most one strut's share of a cell above the preset's.
 function presetName(state, cpu) {
-  const pt = state.points.find((x) => x.cells_per_unit === cpu);
+  const pt = state.runs.find((x) => x.cells_per_unit === cpu);
   const cps = pt ? pt.cells_per_strut : null;
   const share = cps ? cps / cpu : 0;
   const p = cps ? state.presets.find((x) => cps >= x.cells_per_strut - 1e-9 && cps - share < x.cells_per_strut - 1e-9) : null;
@@ -317,17 +364,22 @@ function presetName(state, cpu) {
   return p ? `${p.name} (${what})` : what;
 }
 
-// The grids of the points, and the chosen one even when no point has it.
+// The grids of the runs, and the chosen one even when no run has it.
 function fillCpuOptions(state, select) {
-  const cpus = [...new Set(state.points.map((p) => p.cells_per_unit))].sort((a, b) => a - b);
+  const cpus = [...new Set(state.runs.map((p) => p.cells_per_unit))].sort((a, b) => a - b);
   const keep = state.cpu;
   select.replaceChildren(new Option('all resolutions', 'all'), ...cpus.map((c) => new Option(presetName(state, c), String(c))));
   if (keep !== 'all' && !cpus.includes(Number(keep))) select.append(new Option(presetName(state, Number(keep)), keep));
   select.value = keep;
 }
 
+// The runs of the chosen grid (what the regions are read from), and its points (a point's runs
+// share their grid), robust ones only when asked.
+const ofGrid = (state, list) => (state.cpu === 'all' ? list : list.filter((p) => String(p.cells_per_unit) === String(state.cpu)));
+const visibleRuns = (state) => ofGrid(state, state.runs);
 function visiblePoints(state) {
-  return state.cpu === 'all' ? state.points : state.points.filter((p) => String(p.cells_per_unit) === String(state.cpu));
+  const pts = ofGrid(state, state.points);
+  return state.robust ? pts.filter((p) => p.robust) : pts;
 }
 
 const regionFilters = (state) => JSON.stringify([state.phi, state.sweep, state.cpu]);
@@ -336,7 +388,7 @@ const regionFilters = (state) => JSON.stringify([state.phi, state.sweep, state.c
 function regionKey(state) {
   let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
   const labels = [];
-  for (const p of visiblePoints(state)) {
+  for (const p of visibleRuns(state)) {
     lo = [Math.min(lo[0], p.S), Math.min(lo[1], p.R)]; hi = [Math.max(hi[0], p.S), Math.max(hi[1], p.R)];
     if (p.class) labels.push([p.job_id, p.state, p.status, p.class, p.confidence, p.runner_up]);
   }
@@ -362,18 +414,18 @@ async function loadRegions(page) {
   }
 }
 
-// The figure's size for the page's width and the window's height.
+// The figure's size for the page's width and the window's height (on a phone's narrow page, as
+// wide as the card and about square).
 function figureSize(plotBox) {
-  const width = Math.max(560, Math.min(1100, plotBox.clientWidth || 760));
-  return { width, height: Math.round(Math.min(width * 0.68, Math.max(480, window.innerHeight - 250))) };
+  const width = Math.max(300, Math.min(1100, plotBox.clientWidth || 760));
+  return { width, height: Math.round(Math.min(width * (width < 500 ? 1 : 0.68), Math.max(480, window.innerHeight - 250))) };
 }
 
 // A new plot in the box, replacing the last: log S against log R, each axis spanning the points
-// with room for their markers at its ends.
-function newPlot(plotBox, phi, pts) {
+// with room at its ends for markers of radius r.
+function newPlot(plotBox, phi, pts, r) {
   const { width, height } = figureSize(plotBox);
   const margin = { l: 78, r: 24, t: 18, b: 60 };
-  const r = markerRadius(pts.length);
   const xDom = fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
   const yDom = fitMarkers(logExtent(pts.map((p) => p.R), [1e-6, 1]), pts.map((p) => p.R), height - margin.t - margin.b, r);
   plotBox.replaceChildren();
@@ -388,7 +440,9 @@ function newPlot(plotBox, phi, pts) {
 // The note in an empty plot: why nothing shows.
 function drawEmptyNote(plot, state) {
   const t = svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2, 'text-anchor': 'middle', class: 'empty-note' }, plot.front);
-  t.textContent = state.error ? `could not load: ${state.error}` : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;
+  t.textContent = state.error ? `could not load: ${state.error}`
+    : state.robust && ofGrid(state, state.points).length ? `No robust point at φ = ${state.phi}: none has two replicates that all agree.`
+      : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;
 }
 
 // The map of the visible points (the regions under the markers, the markers, the overlays), the
@@ -397,9 +451,12 @@ function render(page) {
   const t0 = performance.now();
   const { state, el, shown } = page;
   const pts = visiblePoints(state);
-  const plot = (shown.plot = newPlot(el.plotBox, state.phi, pts));
+  // The axes span every point of the grid: "robust only" hides markers, it does not move them
+  // (nor leave the regions, read over every run, short of the axes).
+  const all = ofGrid(state, state.points);
+  const plot = (shown.plot = newPlot(el.plotBox, state.phi, all, markerRadius(pts.length)));
   // Until new regions arrive the last ones of the same filters stay (no flicker on updates).
-  const regionData = state.regions && pts.length && state.regionFor === regionFilters(state) ? state.regionData : null;
+  const regionData = state.regions && all.length && state.regionFor === regionFilters(state) ? state.regionData : null;
   const drawnRegions = drawRegions(plot, regionData);
   shown.regions = drawnRegions ? { ...drawnRegions, data: regionData } : null;
   const marks = drawPoints(plot, pts);
@@ -411,11 +468,13 @@ function render(page) {
   plot.canvas.dataset.counts = JSON.stringify(marks.counts);
   wireCanvas(page, plot);
   renderLegend(el.legend, marks.counts);
-  const keys = keyItems(shown.regions);
+  const keys = keyItems(shown.regions, state.points.some((p) => p.runs.length > 1));
   renderKeys(el.keys, keys);
-  el.summary.innerHTML = summaryHtml(marks.counts, pts.length, state.phi, marks.places);
+  const hidden = all.length - pts.length;
+  el.summary.innerHTML = summaryHtml(marks.counts, pts, state.phi, marks.places, hidden);
   shown.figure = figureOf(state, plot, marks, shown.regions, keys);
-  publishRender(page.root, state.phi, performance.now() - t0, plot, marks, shown.regions);
+  refreshPinned(page, pts);
+  publishRender(page.root, state, performance.now() - t0, plot, marks, shown.regions);
 }
 
 // What the export draws of a render: the plot, its markers and regions, the legend with counts
@@ -425,9 +484,9 @@ function figureOf(state, plot, marks, regions, keys) {
     plot, markers: marks.markers, regions,
     legend: [...Object.entries(CLASSES).map(([k, c]) => ({ cat: k, name: `${k} ${c.name}`, count: marks.counts[k] || 0 })),
       ...Object.entries(STATES).filter(([k]) => marks.counts[k]).map(([k, s]) => ({ cat: k, name: s.name, count: marks.counts[k] })),
-      ...keys.map((k) => ({ cat: k.cat, fade: k.fade, ring: k.ring, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
+      ...keys.map((k) => ({ mark: k.mark, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
     title: `Phase map at phi = ${state.phi}`,
-    note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}`,
+    note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}${state.robust ? ', robust points only' : ''}`,
       ...(regions ? [`regions from ${regions.data.runs} labelled runs`] : [])],
   };
 }
@@ -435,14 +494,15 @@ function figureOf(state, plot, marks, regions, keys) {
 // Hover and click on a new canvas; the handlers read the page's last render when they run.
 function wireCanvas(page, plot) {
   plot.canvas.addEventListener('mousemove', (ev) => onMove(page, ev));
-  plot.canvas.addEventListener('mouseleave', () => { page.tooltip.hidden = true; page.shown.plot.canvas.style.cursor = ''; });
-  plot.canvas.addEventListener('click', (ev) => onClick(page.shown, ev));
+  plot.canvas.addEventListener('mouseleave', () => { if (!page.pinned) page.tooltip.hidden = true; page.shown.plot.canvas.style.cursor = ''; });
+  plot.canvas.addEventListener('click', (ev) => onClick(page, ev));
 }
 
 function exportName(state, ext) {
   const parts = [`phase-map-phi${state.phi}`];
   if (state.sweep) parts.push(`sweep${state.sweep}`);
   if (state.cpu !== 'all') parts.push(`cpu${state.cpu}`);
+  if (state.robust) parts.push('robust');
   return `${parts.join('-')}.${ext}`;
 }
 
@@ -469,11 +529,13 @@ function nearest(shown, ev) {
   return best;
 }
 
-// The tooltip of the run under the mouse, else of the predicted region there, else none.
+// The tooltip of the point under the mouse, else of the predicted region there, else none; a
+// pinned tooltip stays until it is closed.
 function onMove(page, ev) {
   const { shown, tooltip } = page;
   const { plot } = shown;
   const i = nearest(shown, ev);
+  if (page.pinned) { plot.canvas.style.cursor = i < 0 ? '' : 'pointer'; return; }
   if (i < 0) {
     plot.canvas.style.cursor = '';
     const rect = plot.canvas.getBoundingClientRect();
@@ -484,14 +546,53 @@ function onMove(page, ev) {
     return;
   }
   plot.canvas.style.cursor = 'pointer';
-  const { p, cat } = shown.drawn[i];
-  tooltip.innerHTML = tooltipHtml(p, cat, presetName(page.state, p.cells_per_unit));
+  tooltip.innerHTML = tipOf(page, shown.drawn[i].p, false);
   placeTooltip(tooltip, ev);
 }
 
-function onClick(shown, ev) {
+// A point of one run shows that run's numbers; a point of several its replicates'.
+function tipOf(page, p, pinned) {
+  const numerics = presetName(page.state, p.cells_per_unit);
+  return p.runs.length === 1 ? tooltipHtml(p.runs[0], p.cat, numerics) : pointTipHtml(p, numerics, pinned);
+}
+
+// A click on a point of one run opens the run; on a point of several it pins the point's
+// tooltip (its runs' links can then be clicked); elsewhere it closes a pinned tooltip.
+function onClick(page, ev) {
+  const { shown } = page;
   const i = nearest(shown, ev);
-  if (i >= 0) location.hash = `#/run/${shown.drawn[i].p.job_id}`;
+  if (i < 0) { unpin(page); page.tooltip.hidden = true; return; }
+  const { p } = shown.drawn[i];
+  if (p.runs.length === 1) { location.hash = `#/run/${p.runs[0].job_id}`; return; }
+  unpin(page);
+  page.pinned = p;
+  page.tooltip.innerHTML = tipOf(page, p, true);
+  page.tooltip.classList.add('pinned');
+  page.tooltip.dataset.point = String(p.id);
+  wireClose(page);
+  placeTooltip(page.tooltip, ev);
+}
+
+// After a redraw a pinned tooltip shows its point's new numbers where it is, or closes when the
+// point is no longer shown.
+function refreshPinned(page, pts) {
+  if (!page.pinned) return;
+  const p = pts.find((q) => q.id === page.pinned.id && q.runs.length > 1);
+  if (!p) { unpin(page); page.tooltip.hidden = true; return; }
+  page.pinned = p;
+  page.tooltip.innerHTML = tipOf(page, p, true);
+  wireClose(page);
+}
+
+function wireClose(page) {
+  page.tooltip.querySelector('.tt-close')?.addEventListener('click', () => { unpin(page); page.tooltip.hidden = true; });
+}
+
+function unpin(page) {
+  if (!page.pinned) return;
+  page.pinned = null;
+  page.tooltip.classList.remove('pinned');
+  delete page.tooltip.dataset.point;
 }
 
 function showLive(live, state) {
@@ -510,11 +611,12 @@ function takeAnswer(page, data) {
   state.error = null;
   state.updated = new Date();
   // An unchanged map comes back as the same object (a 304 to If-None-Match).
-  const sig = data === state.answer ? state.signature : JSON.stringify(data.points);
+  const sig = data === state.answer ? state.signature : JSON.stringify([data.points, data.summaries]);
   state.answer = data;
   if (sig !== state.signature) {
     state.signature = sig;
-    state.points = data.points;
+    state.runs = data.points;
+    state.points = mapPoints(data);
     fillCpuOptions(state, page.el.cpu);
     render(page);
   }
@@ -546,11 +648,16 @@ function wireControls(page) {
   const { state, el } = page;
   el.buckling.checked = state.buckling;
   el.regions.checked = state.regions;
+  el.robust.checked = state.robust;
   el.phi.addEventListener('change', () => { state.phi = Number(el.phi.value); state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
   el.cpu.addEventListener('change', () => { state.cpu = el.cpu.value; syncUrl(state); render(page); loadRegions(page); });
   el.sweep.addEventListener('change', () => { state.sweep = el.sweep.value; state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
   el.buckling.addEventListener('change', () => { state.buckling = el.buckling.checked; syncUrl(state); render(page); });
   el.regions.addEventListener('change', () => { state.regions = el.regions.checked; syncUrl(state); render(page); loadRegions(page); });
+  // Robust only hides points; the regions stay those of every labelled run.
+  el.robust.addEventListener('change', () => { state.robust = el.robust.checked; syncUrl(state); render(page); });
+  page.onKey = (ev) => { if (ev.key === 'Escape' && page.pinned) { unpin(page); page.tooltip.hidden = true; } };
+  document.addEventListener('keydown', page.onKey);
   el.exportSvg.addEventListener('click', () => exportFigure(page, 'svg'));
   el.exportPng.addEventListener('click', () => exportFigure(page, 'png'));
 }
@@ -591,6 +698,8 @@ function stop(page) {
   clearTimeout(page.timer);
   clearTimeout(page.resizeTimer);
   window.removeEventListener('resize', page.onResize);
+  document.removeEventListener('keydown', page.onKey);
+  unpin(page);
   page.tooltip.hidden = true;
 }
 
