@@ -58,8 +58,9 @@ export const api = {
   health: () => request('GET', '/health'),
   presets: () => request('GET', '/presets'),
   limits: () => request('GET', '/limits'),
-  phaseMap: (phi, sweep) =>
-    request('GET', `/phase-map?phi=${encodeURIComponent(phi)}${sweep ? `&sweep=${sweep}` : ''}`),
+  // The runs at phi and their points (summaries); sweep, cpu: one sweep, one grid, or none.
+  phaseMap: (phi, sweep, cpu) =>
+    request('GET', `/phase-map?phi=${encodeURIComponent(phi)}${sweep ? `&sweep=${sweep}` : ''}${cpu ? `&cells_per_unit=${cpu}` : ''}`),
   // The classes the labelled runs predict over the map (its background); cpu: one grid or none.
   regions: (phi, sweep, cpu, grid) => request('GET', `/phase-map/regions?${new URLSearchParams({
     phi, ...(sweep ? { sweep } : {}), ...(cpu ? { cells_per_unit: cpu } : {}), ...(grid ? { grid } : {}) })}`),

@@ -1,7 +1,8 @@
 // Run detail: what a run was asked (parameters), what happened to it (state, timings, worker,
-// events), what it produced (space-time map, plate stresses, snapshot, movie) and how it was
-// labelled.
+// events), what it produced (space-time map, plate stresses, snapshot, movie), how it was
+// labelled, and the other replicates of its point.
 import { api, fetchArtifact } from '../api.js';
+import { majorityCount, notRobustWhy, probabilitiesHtml, runStateText, spreadText } from '../points.js';
 import { showRelabel } from '../relabel.js';
 import { CLASSES, category, inkOn, label, look } from '../classes.js';
 import { Plot, colormap, colorBar, linearExtent, svgEl } from '../plot.js';
@@ -27,6 +28,7 @@ function pageHtml(id) {
       <a class="back" href="#/map">← phase map</a>
       <h1 id="run-title">Run ${id}</h1>
       <p class="sub" id="run-sub">loading…</p>
+      <div class="replicates" id="run-replicates" hidden></div>
     </div>
     <div class="grid-run">
       <section class="card span2" id="card-spacetime"><h2>Space-time map of the plastic strain rate</h2><div class="fig" id="st-fig"><p class="muted">waiting for the result…</p></div></section>
@@ -49,7 +51,7 @@ function createPage(root, id) {
   return {
     id,
     el: {
-      title: $('run-title'), sub: $('run-sub'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
+      title: $('run-title'), sub: $('run-sub'), replicates: $('run-replicates'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
       classBox: $('class-box'), label: $('label-box'), params: $('params-box'), state: $('state-box'), files: $('files-box'),
     },
     alive: true,
@@ -75,6 +77,7 @@ async function load(page) {
   }
   if (!page.alive) return;
   renderHead(el, job);
+  renderReplicates(page, job); // beside the rest: it reads the map, the page need not wait
   el.state.innerHTML = stateHtml(job);
   el.params.innerHTML = paramsHtml(job);
   el.classBox.innerHTML = classHtml(job.result);
@@ -99,6 +102,44 @@ function renderHead(el, job) {
   const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
   el.sub.innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell (${Number(job.cells_per_strut).toFixed(1)} across a strut)${progress}`;
   document.title = `run ${job.id} · compaction-sweep`;
+}
+
+// A replicate's point: how many runs it has, the point's majority, share and robustness with
+// its c_b/V over the replicates (the map's summary of the point, GET /phase-map at the run's phi
+// and grid), and a link to each other run (GET /jobs/{id}: replicates) with its label or state.
+// Without replicates nothing shows.
+async function renderReplicates(page, job) {
+  const box = page.el.replicates;
+  const others = job.replicates || [];
+  if (!others.length) { box.hidden = true; box.replaceChildren(); return; }
+  let runs = new Map(), s = null;
+  try {
+    const map = await api.phaseMap(job.phi, '', job.cells_per_unit);
+    runs = new Map(map.points.map((p) => [p.job_id, p]));
+    s = (map.summaries || []).find((x) => x.point_id === job.point_id) || null;
+  } catch { /* the links alone */ }
+  if (!page.alive) return;
+  const total = s ? s.runs : others.length + 1;
+  box.hidden = false;
+  box.dataset.point = String(job.point_id);
+  box.dataset.runs = String(total);
+  const seed = job.scene?.seed, pert = job.scene?.perturbation;
+  const what = [seed !== undefined ? `seed ${seed}` : '', pert ? `perturbation ${pert}` : ''].filter(Boolean).join(', ');
+  const links = others.map((id) => `<li><a href="#/run/${id}" data-job="${id}">run ${id}</a>${runs.has(id) ? ` <span class="run-state">${runStateText(runs.get(id))}</span>` : ''}</li>`).join('');
+  box.innerHTML = `<div class="rep-head">Replicate${what ? ` (${what})` : ''} of point ${job.point_id}: <b>${total} runs</b></div>
+    ${s ? `<div class="rep-point">${pointLine(s)}</div>` : ''}
+    <div class="rep-others"><span class="muted">the other ${others.length === 1 ? 'run' : `${others.length} runs`}:</span><ul class="siblings">${links}</ul></div>`;
+}
+
+// The point's majority and share (its classes when they split), robustness and c_b/V over its
+// replicates.
+function pointLine(s) {
+  if (!s.label) return `the point: ${s.finished} of ${s.runs} finished, none labelled yet`;
+  const c = CLASSES[s.label];
+  const classes = s.share < 1 ? `; ${probabilitiesHtml(s.probabilities)}` : '';
+  const robust = s.robust ? '<b class="robust">robust</b>' : `not robust <span class="muted">(${notRobustWhy(s)})</span>`;
+  const speed = s.band_speed_ratio ? ` · <i>c</i><sub>b</sub>/<i>V</i> ${spreadText(s.band_speed_ratio, 3)}` : '';
+  return `the point: <span class="dot" style="background:${c.color}"></span>${escapeHtml(label(s.label))} in ${majorityCount(s)} of ${s.labelled} labelled (share ${fixed(s.share, 2)}${classes}) · ${robust}${speed}`;
 }
 
 // The downloads, then the figures in turn: the space-time map (its colour scale is the others'),
@@ -269,6 +310,10 @@ function filesHtml(list, job, id) {
     : '<p class="muted">This run has no files' + (job.state === 'failed' ? ' (it failed; see the events).' : '.') + '</p>';
 }
 
+// How many ticks a strain axis of px pixels asks for: one per 60 px (a label such as "0.025"
+// and its gap), at most the 7 of a wide figure.
+const strainTicks = (px) => Math.max(2, Math.min(7, Math.floor(px / 60)));
+
 // The space-time map of spacetime.npy as an image of height against imposed strain, with its
 // colour bar and caption.
 function drawSpacetime(box, npy, summary, frames, id) {
@@ -303,10 +348,10 @@ function drawSpacetime(box, npy, summary, frames, id) {
   off.width = nf; off.height = nr;
   off.getContext('2d').putImageData(img, 0, 0);
   box.replaceChildren();
-  const width = Math.max(520, Math.min(1160, box.clientWidth || 900));
+  const width = Math.max(340, Math.min(1160, box.clientWidth || 900)); // a phone's card: 340 px, 160 of them the map
   const plot = new Plot(box, {
     width, height: 400, canvas: true, margin: { l: 70, r: 110, t: 12, b: 56 }, title: 'space-time map',
-    x: { kind: 'linear', domain: [eps0, eps1], label: 'imposed strain ε = Vt / h_{0}' },
+    x: { kind: 'linear', domain: [eps0, eps1], label: 'imposed strain ε = Vt / h_{0}', ticks: strainTicks(width - 180) },
     y: { kind: 'linear', domain: [0, top], label: 'height y / h_{0}' },
   });
   plot.canvas.id = 'st-canvas';
@@ -331,11 +376,11 @@ function renderStress(box, frames, summary, id) {
   const eps = Array.from(c.eps);
   const top = Array.from(c.sigma_top_over_qy || []), bot = Array.from(c.sigma_bottom_over_qy || []);
   box.replaceChildren();
-  const width = Math.max(420, Math.min(620, box.clientWidth || 520));
+  const width = Math.max(300, Math.min(620, box.clientWidth || 520));
   const yd = linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
   const plot = new Plot(box, {
     width, height: 330, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
-    x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε' },
+    x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε', ticks: strainTicks(width - 86) },
     y: { kind: 'linear', domain: yd, label: 'plate stress σ / q_{y}' },
   });
   plot.svg.id = 'stress-svg';
