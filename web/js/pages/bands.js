@@ -1,8 +1,12 @@
 // Band speed: c_b/V against q_y/(rho V^2) = R/S^2 on log-log axes, coloured by the number of
 // reflections N_r, with the uncertainty of each c_b/V as an error bar (Fig. 3 of the paper), from
-// the runs of one phi labelled as bands. Runs that cannot be plotted are counted with the reason.
+// the points of one phi labelled as bands: a point of one run as that run (its c_b/V ± its
+// uncertainty), a point of several runs (replicates, docs/replicates.md) at the mean of its
+// majority's readings ± their standard deviation. Points that cannot be plotted are counted with
+// the reason.
 import { api } from '../api.js';
 import { CLASSES, label } from '../classes.js';
+import { majorityRuns, mapPoints, notRobustWhy, probabilitiesHtml, spreadText } from '../points.js';
 import { Plot, logExtent, svgEl, colormap, cssColor } from '../plot.js';
 import { stressRatio } from '../physics.js';
 import { sci, fixed, escapeHtml } from '../format.js';
@@ -11,6 +15,9 @@ import { setParams } from '../router.js';
 const POLL_MS = 4000;
 const NR_MAX = 6; // colours for N_r = 0 .. 5 and "6 or more"
 const CAP_PX = 4; // half the width of an error bar's cap
+// ... and of a replicate mean's (± their standard deviation): wider than the marker (6 px), so
+// that a bar of the spread of replicates reads apart from a run's own uncertainty.
+const SD_CAP_PX = 9;
 
 // The classes Fig. 3 plots: the bands, (a) non-reflecting and (b) reflecting.
 export const BAND_CLASSES = ['a', 'b'];
@@ -24,12 +31,13 @@ export const READINGS = {
   lead: { value: 'band_speed_lead', error: 'band_speed_lead_error', name: 'early stage, leading edge', note: 'the band\'s leading edge (10 % of the step from the material ahead to the plate speed) over its first leg in the column\'s upper half, from the velocity map, ± its standard error' },
 };
 
-// Why a run at this phi is not on the plot, in the order the page lists them.
+// Why a point at this phi is not on the plot, in the order the page lists them (what: "run" when
+// every point is one run, else "point").
 const LEFT_OFF = {
   missing: (n) => `${n} band${n === 1 ? '' : 's'} without a measured <i>c</i><sub>b</sub>/<i>V</i>`,
   nonPositive: (n) => `${n} band${n === 1 ? '' : 's'} with <i>c</i><sub>b</sub>/<i>V</i> ≤ 0 (a log axis cannot show ${n === 1 ? 'it' : 'them'})`,
-  notBand: (n) => `${n} run${n === 1 ? '' : 's'} of class c to f (not a band)`,
-  unlabelled: (n) => `${n} run${n === 1 ? '' : 's'} without a label (pending, failed, unstable or unclassified)`,
+  notBand: (n, what) => `${n} ${what}${n === 1 ? '' : 's'} of class c to f (not a band)`,
+  unlabelled: (n, what) => `${n} ${what}${n === 1 ? '' : 's'} without a label (pending, failed, unstable or unclassified)`,
 };
 
 export function nrColor(n) {
@@ -37,22 +45,43 @@ export function nrColor(n) {
   return cssColor(lut, Math.min(n, NR_MAX) / NR_MAX * 0.92);
 }
 
-// Splits the runs of one phi into the plotted bands and, per reason of LEFT_OFF, those left off.
-// A plotted band's error is null when the result carries no finite, non-negative uncertainty.
-export function splitRuns(points, reading = 'fit') {
+const finite = (x) => typeof x === 'number' && Number.isFinite(x);
+const errorOf = (e) => (finite(e) && e >= 0 ? e : null);
+
+// A point's reading: { label, v, e, n, kind, nr, run } or { label, v: null } when it has none. A
+// point of one run reads as the run (its classifier's label, its value ± its uncertainty: kind
+// 'run'); a point of several as the summary of its replicates: the majority's label, the mean of
+// its runs' readings ± their sample standard deviation (kind 'sd', n >= 2), or, when only one of
+// them has the reading, that run's value ± its uncertainty. nr: N_r (the mean of a point's),
+// run: the run its marker opens.
+export function pointReading(pt, reading = 'fit') {
   const { value, error } = READINGS[reading];
+  if (pt.runs.length === 1) {
+    const p = pt.runs[0];
+    return { label: p.class, v: finite(p[value]) ? p[value] : null, e: errorOf(p[error]), n: 1, kind: 'run', nr: p.n_reflections ?? 0, run: p };
+  }
+  const { s } = pt;
+  const majority = majorityRuns(pt);
+  const spread = s[value];
+  const nr = Math.round(s.n_reflections?.mean ?? 0);
+  if (!spread || !finite(spread.mean)) return { label: s.label, v: null, run: majority[0] || pt.runs[0] };
+  if (spread.n >= 2 && finite(spread.sd)) return { label: s.label, v: spread.mean, e: spread.sd, n: spread.n, kind: 'sd', nr, run: majority[0] };
+  const one = majority.find((p) => finite(p[value])) || majority[0] || pt.runs[0];
+  return { label: s.label, v: spread.mean, e: errorOf(one[error]), n: spread.n, kind: 'run', nr, run: one };
+}
+
+// Splits the points of one phi into the plotted bands and, per reason of LEFT_OFF, those left
+// off. A plotted band's error is null when it has no finite, non-negative uncertainty.
+export function splitPoints(points, reading = 'fit') {
   const shown = [];
   const leftOff = Object.fromEntries(Object.keys(LEFT_OFF).map((k) => [k, []]));
-  for (const p of points) {
-    const v = p[value];
-    if (!p.class) leftOff.unlabelled.push(p);
-    else if (!BAND_CLASSES.includes(p.class)) leftOff.notBand.push(p);
-    else if (typeof v !== 'number' || !Number.isFinite(v)) leftOff.missing.push(p);
-    else if (v <= 0) leftOff.nonPositive.push(p);
-    else {
-      const e = p[error];
-      shown.push({ p, v, e: typeof e === 'number' && Number.isFinite(e) && e >= 0 ? e : null });
-    }
+  for (const pt of points) {
+    const r = pointReading(pt, reading);
+    if (!r.label) leftOff.unlabelled.push(pt);
+    else if (!BAND_CLASSES.includes(r.label)) leftOff.notBand.push(pt);
+    else if (r.v === null) leftOff.missing.push({ pt, run: r.run });
+    else if (r.v <= 0) leftOff.nonPositive.push({ pt, run: r.run });
+    else shown.push({ pt, ...r });
   }
   return { shown, leftOff };
 }
@@ -63,7 +92,8 @@ function pageHtml() {
     <div class="page-head">
       <h1>Band speed</h1>
       <p class="sub">Speed of the compaction band <i>c</i><sub>b</sub>/<i>V</i> against the ratio of yield to inertial stress
-        <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = <i>R</i>/<i>S</i>², for every run at one φ labelled as a band, (a) or (b), with the uncertainty of its band speed.</p>
+        <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = <i>R</i>/<i>S</i>², for every point at one φ labelled as a band, (a) or (b), with the uncertainty of its band speed
+        (a point run several times: the mean of its replicates ± their standard deviation).</p>
     </div>
     <div class="layout-map">
       <section class="card figure"><div class="figure-plot" id="bands-plot"></div>
@@ -76,7 +106,7 @@ function pageHtml() {
         <h2 class="legend-title">Reflections <i>N</i><sub>r</sub></h2>
         <ul class="legend" id="bands-legend"></ul>
         <p class="hint">Dashed: a non-reflecting band, <i>c</i><sub>b</sub>/<i>V</i> = 1/(1 − φ). Reflecting bands are faster and grow as a power law of <i>R</i>/<i>S</i>².
-          Bars: ± the uncertainty of <i>c</i><sub>b</sub>/<i>V</i>; a bar without a cap runs off the axis.
+          Bars: ± the uncertainty of <i>c</i><sub>b</sub>/<i>V</i>; with wide caps, a point with replicates at their mean ± their standard deviation; a bar without a cap runs off the axis.
           Circles: regular structures; squares: random structures (as in the paper's Fig. 3).</p>
       </aside>
     </div>`;
@@ -102,14 +132,15 @@ function drawErrorBars(plot, drawn) {
     const hi = plot.y.map(d.v + d.e);
     const lo = d.v - d.e > 0 ? plot.y.map(d.v - d.e) : Infinity;
     const y1 = Math.max(top, hi), y2 = Math.min(bottom, lo);
-    svgEl('line', { x1: x, x2: x, y1, y2, class: 'error-bar', 'data-job': d.p.job_id }, g);
-    if (y1 === hi) svgEl('line', { x1: x - CAP_PX, x2: x + CAP_PX, y1, y2: y1, class: 'error-cap' }, g);
-    if (y2 === lo) svgEl('line', { x1: x - CAP_PX, x2: x + CAP_PX, y1: y2, y2, class: 'error-cap' }, g);
+    const cap = d.kind === 'sd' ? SD_CAP_PX : CAP_PX;
+    svgEl('line', { x1: x, x2: x, y1, y2, class: `error-bar ${d.kind}`, 'data-job': d.run.job_id, 'data-point': d.pt.id }, g);
+    if (y1 === hi) svgEl('line', { x1: x - cap, x2: x + cap, y1, y2: y1, class: `error-cap ${d.kind}` }, g);
+    if (y2 === lo) svgEl('line', { x1: x - cap, x2: x + cap, y1: y2, y2, class: `error-cap ${d.kind}` }, g);
   }
 }
 
-// A run's marker as the paper's Fig. 3 draws it: a square for a random structure, a circle for a
-// regular one (and for results whose scene predates the structure key).
+// A point's marker as the paper's Fig. 3 draws it: a square for a random structure, a circle for
+// a regular one (and for results whose scene predates the structure key).
 export const markerShape = (p) => (p.structure === 'random' ? 'square' : 'circle');
 
 // The markers on the canvas, coloured by N_r; returns the count per colour of the legend.
@@ -117,12 +148,12 @@ function drawMarkers(plot, drawn) {
   const counts = {};
   const ctx = plot.ctx;
   for (const d of drawn) {
-    const n = Math.min(d.p.n_reflections ?? 0, NR_MAX);
+    const n = Math.min(d.nr, NR_MAX);
     counts[n] = (counts[n] || 0) + 1;
     ctx.beginPath();
-    if (markerShape(d.p) === 'square') ctx.rect(d.x - 5.5, d.y - 5.5, 11, 11);
+    if (markerShape(d.run) === 'square') ctx.rect(d.x - 5.5, d.y - 5.5, 11, 11);
     else ctx.arc(d.x, d.y, 6, 0, 2 * Math.PI);
-    ctx.fillStyle = nrColor(d.p.n_reflections ?? 0);
+    ctx.fillStyle = nrColor(d.nr);
     ctx.fill();
     ctx.lineWidth = 1.2;
     ctx.strokeStyle = '#1d2433';
@@ -141,25 +172,47 @@ function renderLegend(legend, counts) {
   }));
 }
 
-// How many runs are plotted, and every run left off with its reason; the bands left off link to
-// their runs.
-function renderSummary(summary, list, phi, total, shown, leftOff) {
+// How many bands are plotted of how many points (runs, when every point is one run), and every
+// point left off with its reason; the bands left off link to their runs.
+function renderSummary(summary, list, phi, points, shown, leftOff) {
   const bare = shown.filter((d) => d.e === null).length;
+  const runs = points.reduce((a, p) => a + p.runs.length, 0);
+  const single = runs === points.length;
+  const sd = shown.filter((d) => d.kind === 'sd').length;
   summary.dataset.plotted = String(shown.length);
-  summary.innerHTML = `<b>${shown.length}</b> band${shown.length === 1 ? '' : 's'} plotted of ${total} runs at φ = ${phi}`
+  summary.innerHTML = `<b>${shown.length}</b> band${shown.length === 1 ? '' : 's'} plotted of ${single ? `${runs} runs` : `${points.length} points (${runs} runs)`} at φ = ${phi}`
+    + (sd ? ` · ${sd} replicate mean${sd === 1 ? '' : 's'} ± sd` : '')
     + (bare ? ` · ${bare} without an uncertainty (no bar)` : '');
   list.replaceChildren();
   for (const [reason, text] of Object.entries(LEFT_OFF)) {
-    const runs = leftOff[reason];
-    if (!runs.length) continue;
+    const items = leftOff[reason];
+    if (!items.length) continue;
     const li = document.createElement('li');
     li.dataset.reason = reason;
-    li.dataset.count = String(runs.length);
-    const links = reason === 'missing' || reason === 'nonPositive'
-      ? `: ${runs.map((p) => `<a href="#/run/${p.job_id}">run ${p.job_id}</a>`).join(', ')}` : '';
-    li.innerHTML = `left off: ${text(runs.length)}${links}`;
+    li.dataset.count = String(items.length);
+    const link = ({ pt, run }) => `<a href="#/run/${run.job_id}">${pt.runs.length === 1 ? `run ${run.job_id}` : `point ${pt.id} (run ${run.job_id})`}</a>`;
+    const links = reason === 'missing' || reason === 'nonPositive' ? `: ${items.map(link).join(', ')}` : '';
+    li.innerHTML = `left off: ${text(items.length, single ? 'run' : 'point')}${links}`;
     list.append(li);
   }
+}
+
+// The tooltip of a plotted point: a point of one run as the run (tooltipHtml); a point of
+// several with its majority and share and each reading as mean ± sd (n) over the replicates.
+function pointTipHtml(d) {
+  if (d.pt.runs.length === 1) return tooltipHtml(d.pt.runs[0]);
+  const { s } = d.pt;
+  const c = CLASSES[s.label];
+  const rows = [
+    ['S', sci(s.S)], ['R', sci(s.R)], ['R/S²', sci(stressRatio(s.S, s.R))],
+    ...Object.entries(READINGS).map(([, r]) => [`<i>c</i><sub>b</sub>/<i>V</i> (${r.name.replace('least-squares ', '').replace('early stage, ', 'early, ')})`, spreadText(s[r.value], 3)]),
+    ['<i>N</i><sub>r</sub>', spreadText(s.n_reflections, 2)],
+    ['structure', markerShape(s) === 'square' ? 'random' : 'regular'],
+    ['class', `${c ? `<span class="dot" style="background:${c.color}"></span>` : ''}${escapeHtml(label(s.label))} (share ${fixed(s.share, 2)})`],
+    ['classes', probabilitiesHtml(s.probabilities)],
+    ['runs', `${s.runs} (${s.robust ? 'robust' : `not robust: ${notRobustWhy(s)}`})`],
+  ];
+  return `<div class="tt-head">point ${s.point_id} · ${s.runs} runs · mean ± sd (<i>n</i>)</div><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('')}</table>`;
 }
 
 function tooltipHtml(p) {
@@ -198,7 +251,8 @@ function createPage(root, params) {
     state: {
       phi: params.phi ? Number(params.phi) : null,
       reading: READINGS[params.speed] ? params.speed : 'fit',
-      points: [], sig: '',
+      points: [], // the points at phi (points.js: mapPoints), each with its runs
+      sig: '',
       model: null, // the engine's predictions at phi, from the phase map's answer
     },
     el: {
@@ -210,28 +264,37 @@ function createPage(root, params) {
     drawn: [], // the plotted bands with their canvas positions (x, y)
     alive: true,
     timer: null, // the next poll
+    resizeTimer: null, // the redraw a moment after the last resize
+    onResize: null,
   };
+}
+
+// The figure's size for the page's width and the window's height (on a phone's narrow page, as
+// wide as the card and about square).
+function figureSize(box) {
+  const width = Math.max(300, Math.min(1100, box.clientWidth || 760));
+  return { width, height: Math.round(Math.min(width * (width < 500 ? 1 : 0.62), Math.max(460, window.innerHeight - 260))) };
 }
 
 // A new plot in the box, replacing the last: c_b/V of the bands (with their bars and the
 // non-reflecting speed c0) against R/S^2 (xs), on log axes spanning them.
 function newPlot(box, reading, shown, xs, c0) {
   box.replaceChildren();
-  const width = Math.max(560, Math.min(1100, box.clientWidth || 760));
   const ys = shown.flatMap((d) => (d.e === null ? [d.v] : [d.v, d.v + d.e, d.v - d.e])).concat(c0 > 0 ? [c0] : []);
   return new Plot(box, {
-    width, height: Math.round(Math.min(width * 0.62, Math.max(460, window.innerHeight - 260))), canvas: true, margin: { l: 78, r: 24, t: 18, b: 60 }, title: 'band speed',
+    ...figureSize(box), canvas: true, margin: { l: 78, r: 24, t: 18, b: 60 }, title: 'band speed',
     x: { kind: 'log', domain: logExtent(xs, [1e-2, 1e3]), label: 'q_{y} / (ρV^{2}) = R / S^{2}' },
     y: { kind: 'log', domain: logExtent(ys, [0.5, 50]), label: `band speed c_{b} / V (${READINGS[reading].name})` },
   });
 }
 
-// The plot of the bands at phi, the legend and the runs left off; keeps what it drew for the mouse.
+// The plot of the bands at phi, the legend and the points left off; keeps what it drew for the
+// mouse.
 function render(page) {
   const { state, el } = page;
-  const { shown, leftOff } = splitRuns(state.points, state.reading);
+  const { shown, leftOff } = splitPoints(state.points, state.reading);
   const c0 = state.model?.nonreflecting_band_speed;
-  const xs = shown.map((d) => stressRatio(d.p.S, d.p.R));
+  const xs = shown.map((d) => stressRatio(d.pt.S, d.pt.R));
   const plot = (page.plot = newPlot(el.plotBox, state.reading, shown, xs, c0));
   drawNonReflecting(plot, c0);
   const drawn = (page.drawn = shown.map((d, i) => ({ ...d, xv: xs[i], x: plot.cx(xs[i]), y: plot.cy(d.v) })));
@@ -244,17 +307,20 @@ function render(page) {
   plot.canvas.dataset.count = String(drawn.length);
   wireCanvas(page, plot);
   renderLegend(el.legend, counts);
-  renderSummary(el.summary, el.leftOff, state.phi, state.points.length, shown, leftOff);
+  renderSummary(el.summary, el.leftOff, state.phi, state.points, shown, leftOff);
   // For the browser tests: what was drawn and the y axis it was drawn on.
   const hook = (window.__dashboard ||= { renders: [] });
-  hook.bands = { phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1], plotted: drawn.map((d) => ({ job_id: d.p.job_id, x: d.x, y: d.y, shape: markerShape(d.p) })) };
+  hook.bands = {
+    phi: state.phi, reading: state.reading, yDomain: [plot.y.d0, plot.y.d1],
+    plotted: drawn.map((d) => ({ job_id: d.run.job_id, point_id: d.pt.id, jobs: d.pt.runs.map((p) => p.job_id), x: d.x, y: d.y, v: d.v, e: d.e, n: d.n, kind: d.kind, shape: markerShape(d.run) })),
+  };
 }
 
 // Hover and click on a new canvas; the handlers read the page's last render when they run.
 function wireCanvas(page, plot) {
   plot.canvas.addEventListener('mousemove', (ev) => onMove(page, ev));
   plot.canvas.addEventListener('mouseleave', () => { page.tooltip.hidden = true; });
-  plot.canvas.addEventListener('click', (ev) => { const d = nearest(page, ev); if (d) location.hash = `#/run/${d.p.job_id}`; });
+  plot.canvas.addEventListener('click', (ev) => { const d = nearest(page, ev); if (d) location.hash = `#/run/${d.run.job_id}`; });
 }
 
 // The plotted band within 12 px of the mouse, the nearest; null: none.
@@ -271,21 +337,21 @@ function onMove(page, ev) {
   const d = nearest(page, ev);
   if (!d) { tooltip.hidden = true; plot.canvas.style.cursor = ''; return; }
   plot.canvas.style.cursor = 'pointer';
-  tooltip.innerHTML = tooltipHtml(d.p);
+  tooltip.innerHTML = pointTipHtml(d);
   tooltip.hidden = false;
   tooltip.style.left = `${ev.clientX + 16 + window.scrollX}px`;
   tooltip.style.top = `${ev.clientY + 14 + window.scrollY}px`;
 }
 
-// Reads /phase-map at phi and redraws when its points changed.
+// Reads /phase-map at phi and redraws when its runs or points changed.
 async function poll(page) {
   clearTimeout(page.timer);
   if (!page.alive) return;
   const { state } = page;
   try {
     const data = await api.phaseMap(state.phi);
-    const sig = JSON.stringify(data.points);
-    if (page.alive && sig !== state.sig) { state.sig = sig; state.points = data.points; state.model = data.model; render(page); }
+    const sig = JSON.stringify([data.points, data.summaries]);
+    if (page.alive && sig !== state.sig) { state.sig = sig; state.points = mapPoints(data); state.model = data.model; render(page); }
   } catch (e) { page.el.summary.textContent = `offline: ${e.message}`; }
   if (page.alive) page.timer = setTimeout(() => poll(page), POLL_MS);
 }
@@ -305,6 +371,20 @@ function wireControls(page) {
   el.reading.addEventListener('change', () => { state.reading = el.reading.value; note(); syncUrl(state); render(page); });
 }
 
+// Redraws a moment after a resize that changes the figure's size (a phone turned, a window
+// narrowed), not for every window event.
+function watchResize(page) {
+  page.onResize = () => {
+    clearTimeout(page.resizeTimer);
+    page.resizeTimer = setTimeout(() => {
+      if (!page.alive || !page.plot) return;
+      const { width, height } = figureSize(page.el.plotBox);
+      if (width !== page.plot.opts.width || height !== page.plot.opts.height) render(page);
+    }, 150);
+  };
+  window.addEventListener('resize', page.onResize);
+}
+
 // The phis of the sweeps fill the control; then the controls, the first render and the polling.
 async function start(page) {
   const { state, el } = page;
@@ -313,6 +393,7 @@ async function start(page) {
   state.phi = phi;
   el.phi.replaceChildren(...phis.map((p) => new Option(`φ = ${p}`, p, false, p === state.phi)));
   wireControls(page);
+  watchResize(page);
   render(page);
   poll(page);
 }
@@ -320,6 +401,8 @@ async function start(page) {
 function stop(page) {
   page.alive = false;
   clearTimeout(page.timer);
+  clearTimeout(page.resizeTimer);
+  window.removeEventListener('resize', page.onResize);
   page.tooltip.hidden = true;
 }
 
