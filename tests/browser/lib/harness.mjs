@@ -89,9 +89,10 @@ export class Harness {
     return this.url;
   }
 
-  startWorker(name = 'w1') {
+  // extra: more flags of compaction-worker (e.g. --max-jobs 2: it exits after two runs).
+  startWorker(name = 'w1', extra = []) {
     const bins = binaries();
-    return this.spawn(`worker-${name}`, bins.worker, ['--server', this.url, '--runner', bins.runner, '--work-dir', join(this.dir, `work-${name}`), '--name', name, '--poll-interval', '0.2', '--log-level', 'warn']);
+    return this.spawn(`worker-${name}`, bins.worker, ['--server', this.url, '--runner', bins.runner, '--work-dir', join(this.dir, `work-${name}`), '--name', name, '--poll-interval', '0.2', '--log-level', 'warn', ...extra]);
   }
 
   async api(path, body) {
