@@ -212,12 +212,16 @@ def boundary_lines(levels, grids):
 
 
 def band_lines(levels):
-    top = max(levels) if levels else 0
-    bs = sorted((p for p in labelled(levels.get(top, {}).values()) if p["label"] == "b"), key=x_of)
-    if not bs:
-        return ["No point of level %d is labelled (b) yet." % top]
-    lines = ["Level %d, the points labelled (b): c_b/V by the classifier's fit over the point's "
-             "majority runs." % top, "",
+    """c_b/V of the (b) points at the finest level that has any (the finer level once it ran)."""
+    for top in sorted(levels, reverse=True):
+        bs = sorted((p for p in labelled(levels[top].values()) if p["label"] == "b"), key=x_of)
+        if bs:
+            break
+    else:
+        return ["No point is labelled (b) yet."]
+    lines = ["Level %d%s, the points labelled (b): c_b/V by the classifier's fit over the point's "
+             "majority runs." % (top, "" if top == max(levels) else
+                                 " (the finest level with a (b) so far)"), "",
              "| point | share | c_b/V mean +- sd (n) | early stage |", "|---|---|---|---|"]
     for p in bs:
         lines.append("| %s | %.2f | %s | %s |" % (node_text(key(p)), p["share"],
