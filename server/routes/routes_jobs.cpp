@@ -1,10 +1,13 @@
-// /api/v1/jobs (list with filters, show, artifacts), /api/v1/phase-map and the regions its
-// labels predict. The list, the map and the regions are the answers clients poll: served
-// through the answer cache (ETag, If-None-Match).
+// /api/v1/jobs (the run table: filters, order, pages, CSV; show, artifacts), /api/v1/phase-map
+// and the regions its labels predict. The table's pages, the map and the regions are the
+// answers clients poll: served through the answer cache (ETag, If-None-Match).
 #include "routes/app.hpp"
 #include "routes/checkpoint_routes.hpp"
 
 #include <map>
+#include <memory>
+
+#include <spdlog/spdlog.h>
 
 #include "compaction/params.hpp"
 #include "exchange/result_intake.hpp"
@@ -12,6 +15,8 @@
 #include "http/http_util.hpp"
 #include "plan/counted_label.hpp"
 #include "plan/phase_regions.hpp"
+#include "routes/run_query.hpp"
+#include "views/run_table_views.hpp"
 #include "views/views.hpp"
 
 namespace compaction::server {
@@ -19,6 +24,9 @@ namespace compaction::server {
 using nlohmann::json;
 
 namespace {
+
+// Rows of the CSV written at a time (about 100 kB).
+constexpr int kCsvChunkRows = 500;
 
 // The filters of /phase-map and /phase-map/regions: phi (required), one sweep, one grid.
 struct MapQuery {
@@ -69,23 +77,62 @@ std::optional<regions::Regions> predicted_regions(const std::vector<PhaseMapPoin
   return regions::predict(votes, *box, grid);
 }
 
+template <typename T>
+views::PageInfo page_info(const RunQuery& q, const RunPage<T>& page) {
+  return {page.total, q.limit, q.offset, sort_text(q.sort),
+          page.next ? std::optional<std::string>(cursor_text(q.sort, *page.next)) : std::nullopt};
+}
+
+// The run table's rows as CSV, streamed: read in one read transaction that the answer holds
+// until its last row is written; X-Total-Count is the filtered set's size, X-Row-Limit the most
+// rows the answer holds.
+void stream_csv(App& app, const RunQuery& q, httplib::Response& res) {
+  std::shared_ptr<RunTable::Stream> rows = app.store.runs.stream(q);
+  res.status = 200;
+  res.set_header("X-Total-Count", std::to_string(rows->total()));
+  res.set_header("X-Row-Limit", std::to_string(q.limit));
+  res.set_header("Content-Disposition", "attachment; filename=\"jobs.csv\"");
+  res.set_chunked_content_provider(
+      "text/csv; charset=utf-8",
+      [rows, header = true](std::size_t, httplib::DataSink& sink) mutable {
+        // The provider runs after the handler, outside guarded(): a failure ends the answer
+        // short (the chunked body never ends), and the client sees it cut.
+        try {
+          std::string chunk = header ? views::run_csv_header() : "";
+          header = false;
+          RunRow row;
+          int n = 0;
+          while (n < kCsvChunkRows && rows->next(row)) {
+            chunk += views::run_csv_line(row);
+            ++n;
+          }
+          if (!chunk.empty() && !sink.write(chunk.data(), chunk.size())) return false;
+          if (n < kCsvChunkRows) sink.done();
+          return true;
+        } catch (const std::exception& e) {
+          spdlog::error("GET /jobs?format=csv ended early: {}", e.what());
+          return false;
+        }
+      });
+}
+
 }  // namespace
 
 void register_job_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::list_jobs, [&app](const httplib::Request& req, httplib::Response& res) {
-    JobFilter f;
-    f.sweep_id = query_id(req, "sweep");
-    if (req.has_param("state")) {
-      f.state = parse_job_state(req.get_param_value("state"));
-      if (!f.state) {
-        throw ApiError(422, "state", "must be queued, running, succeeded, failed or cancelled");
-      }
+    const JobsRequest r = read_jobs_request(req);
+    if (r.format == JobsFormat::csv) {
+      stream_csv(app, r.query, res);
+      return;
     }
-    f.phi = query_number(req, "phi");
-    f.limit = query_int(req, "limit", 100, 1, 1000);
-    f.offset = query_int(req, "offset", 0, 0, 1000000000);
-    app.answers.serve(req, res, app.store.db.writer.commits(),
-                      [&] { return json_text(views::jobs(app.store.reads.jobs(f), f.limit, f.offset)); });
+    app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+      if (r.format == JobsFormat::table) {
+        const RunPage<RunRow> page = app.store.runs.page(r.query);
+        return json_text(views::run_table(page.items, page_info(r.query, page)));
+      }
+      const RunPage<JobRecord> page = app.store.reads.jobs(r.query);
+      return json_text(views::jobs(page.items, page_info(r.query, page)));
+    });
   });
 
   add_route(server, endpoints::show_job,

@@ -6,6 +6,7 @@
 
 #include "http/endpoints.hpp"
 #include "http/http_util.hpp"
+#include "http/page_limits.hpp"
 #include "input/safe_text.hpp"
 #include "routes/app.hpp"
 #include "store/clock.hpp"
@@ -107,8 +108,8 @@ void register_label_routes(httplib::Server& server, App& app) {
 
   add_route(server, endpoints::label_audit, [&app](const httplib::Request& req, httplib::Response& res) {
     const auto job = query_id(req, "job");
-    const int limit = query_int(req, "limit", 100, 1, 1000);
-    const int offset = query_int(req, "offset", 0, 0, 1000000000);
+    const int limit = query_int(req, "limit", kDefaultPageRows, 1, kMaxPageRows);
+    const int offset = query_int(req, "offset", 0, 0, kMaxOffset);
     std::int64_t total = 0;
     const auto changes = app.store.labels.audit(job, limit, offset, total);
     send_json(res, 200, views::label_audit(changes, total, limit, offset));

@@ -7,11 +7,13 @@
 #include "http/endpoints.hpp"
 #include "http/http_server.hpp"
 #include "http/http_util.hpp"
+#include "http/page_limits.hpp"
 #include "http/request_guard.hpp"
 #include "input/safe_text.hpp"
 #include "routes/app.hpp"
 #include "routes/checkpoint_routes.hpp"
 #include "routes/metrics.hpp"
+#include "routes/run_query.hpp"
 #include "plan/adaptive_plan.hpp"
 #include "store/clock.hpp"
 
@@ -31,6 +33,21 @@ json movie_json() {
   j["none"] = 0;
   j["default"] = compaction::SceneParams{}.movie_d_eps;
   return j;
+}
+
+// What GET /jobs (the run table) takes: its columns, those it sorts by, its parameters, the
+// most rows of its CSV and the length of its text search.
+json jobs_limits_json() {
+  json columns = json::array(), sort = json::array();
+  for (const RunColumn& c : run_columns()) {
+    columns.push_back(c.name);
+    if (c.sortable) sort.push_back(c.name);
+  }
+  return {{"columns", columns},
+          {"sort", sort},
+          {"parameters", jobs_parameters()},
+          {"max_csv_rows", kMaxCsvRows},
+          {"q_max_bytes", kMaxSearchBytes}};
 }
 
 // What a sweep request may hold: the planner's rules and the scene's ranges, from their homes.
@@ -64,7 +81,9 @@ json limits_json(const PlannerLimits& l) {
             {"finest_resolution_decades", adaptive::kFinestResolutionDecades},
             {"budget", std::min<long long>(adaptive::kDefaultBudget, static_cast<long long>(l.max_points))},
             {"in_flight", adaptive::kDefaultInFlight},
-            {"max_levels", adaptive::kMaxLevels}}}};
+            {"max_levels", adaptive::kMaxLevels}}},
+          {"lists", {{"default_limit", kDefaultPageRows}, {"max_limit", kMaxPageRows}, {"max_offset", kMaxOffset}}},
+          {"jobs", jobs_limits_json()}};
 }
 
 // Counts an answer by its class and logs it (a refusal with its body, at info).

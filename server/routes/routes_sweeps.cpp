@@ -8,10 +8,12 @@
 #include "exchange/export_format.hpp"
 #include "http/endpoints.hpp"
 #include "http/http_util.hpp"
+#include "http/page_limits.hpp"
 #include "input/safe_text.hpp"
 #include "plan/cost_model.hpp"
 #include "routes/app.hpp"
 #include "store/clock.hpp"
+#include "views/csv_text.hpp"
 #include "views/views.hpp"
 
 namespace compaction::server {
@@ -19,22 +21,6 @@ namespace compaction::server {
 using nlohmann::json;
 
 namespace {
-
-// One cell: numbers as JSON writes them; text quoted when it holds a separator, and, as OWASP
-// recommends against CSV injection, a text cell that a spreadsheet would read as a formula
-// (starting with =, +, -, @, a tab or a carriage return) gets a leading ' and quotes.
-std::string csv_field(const json& v) {
-  if (v.is_null()) return "";
-  std::string s = v.is_string() ? v.get<std::string>() : v.dump();
-  const bool formula = v.is_string() && !s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos;
-  if (formula) s = "'" + s;
-  if (formula || s.find_first_of(",\"\n\r") != std::string::npos) {
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  }
-  return s;
-}
 
 // One line per job of the sweep: its parameters, state and result, and its point (the
 // replicates read together: its id, label, share, runs and whether robust).
@@ -120,8 +106,8 @@ void register_sweep_routes(httplib::Server& server, App& app) {
   });
 
   add_route(server, endpoints::list_sweeps, [&app](const httplib::Request& req, httplib::Response& res) {
-    const int limit = query_int(req, "limit", 100, 1, 1000);
-    const int offset = query_int(req, "offset", 0, 0, 1000000000);
+    const int limit = query_int(req, "limit", kDefaultPageRows, 1, kMaxPageRows);
+    const int offset = query_int(req, "offset", 0, 0, kMaxOffset);
     app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
       return json_text(views::sweeps(app.store.reads.sweeps(limit, offset), limit, offset));
     });

@@ -41,6 +41,35 @@ Database::Database(const std::string& path, int busy_timeout_ms, Access access) 
   prepare("PRAGMA foreign_keys = ON").run();
 }
 
+namespace {
+void call_text_function(sqlite3_context* ctx, int, sqlite3_value** args) {
+  const auto fn = reinterpret_cast<Database::TextFunction>(sqlite3_user_data(ctx));
+  if (sqlite3_value_type(args[0]) == SQLITE_NULL) {
+    sqlite3_result_null(ctx);
+    return;
+  }
+  try {
+    const auto* text = reinterpret_cast<const char*>(sqlite3_value_text(args[0]));
+    const auto out = fn(std::string_view(text, static_cast<std::size_t>(sqlite3_value_bytes(args[0]))));
+    if (out) {
+      sqlite3_result_text(ctx, out->data(), static_cast<int>(out->size()), SQLITE_TRANSIENT);
+    } else {
+      sqlite3_result_null(ctx);
+    }
+  } catch (const std::exception& e) {
+    sqlite3_result_error(ctx, e.what(), -1);
+  }
+}
+}  // namespace
+
+void Database::define_function(const char* name, TextFunction fn) {
+  const int flags = SQLITE_UTF8 | SQLITE_DETERMINISTIC | SQLITE_INNOCUOUS;
+  if (sqlite3_create_function_v2(db_, name, 1, flags, reinterpret_cast<void*>(fn), call_text_function,
+                                 nullptr, nullptr, nullptr) != SQLITE_OK) {
+    throw Error(std::string("cannot define the SQL function ") + name + ": " + sqlite3_errmsg(db_));
+  }
+}
+
 Database::~Database() {
   for (auto& [sql, stmt] : idle_statements_) sqlite3_finalize(stmt);
   sqlite3_close_v2(db_);

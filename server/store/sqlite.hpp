@@ -59,6 +59,10 @@ class Database {
   std::uint64_t commits() const { return commits_.load(); }
   // Rows changed by every statement on this connection so far.
   std::int64_t total_changes() const;
+  // Defines a deterministic SQL function of one text argument on this connection, which the
+  // schema's triggers may call: NULL in, NULL out; fn's nullopt is NULL.
+  using TextFunction = std::optional<std::string> (*)(std::string_view);
+  void define_function(const char* name, TextFunction fn);
 
  private:
   friend class Transaction;

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "store/migrations.hpp"
+#include "store/scene_preset.hpp"
 
 namespace compaction::server {
 
@@ -16,6 +17,8 @@ StoreDb::StoreDb(const std::string& path, StoreConfig config_in)
       files(path + ".artifacts"),
       wal(path) {
   std::lock_guard lock(write_mutex);
+  // The run table's preset column (migration 0012) is the store's rule, called by its triggers.
+  writer.define_function("compaction_preset", &scene_preset_name);
   apply_migrations(writer, embedded_migrations());
   wal_synced_with_files = files.same_file_system(path);
   // Folders of results that were never committed (a crash between writing the files and the

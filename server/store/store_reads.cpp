@@ -170,32 +170,17 @@ std::optional<std::vector<JobRecord>> StoreReads::sweep_jobs(std::int64_t id) {
   return rows;
 }
 
-Page<JobRecord> StoreReads::jobs(const JobFilter& f) {
+RunPage<JobRecord> StoreReads::jobs(const RunQuery& q) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
-  // Absent filters bind NULL and match everything; phi matches within 1e-9.
-  const std::string where =
-      " WHERE (?1 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?1))"
-      " AND (?2 IS NULL OR j.state = ?2) AND (?3 IS NULL OR j.phi BETWEEN ?3 - 1e-9 AND ?3 + 1e-9)";
-  auto bind_filters = [&](sqlite::Statement& s) {
-    s.bind(1, f.sweep_id);
-    if (f.state) {
-      s.bind(2, to_string(*f.state));
-    } else {
-      s.bind_null(2);
-    }
-    s.bind(3, f.phi);
-  };
-  auto s = db->prepare(std::string("SELECT ") + job_columns + " FROM" + job_tables + where +
-                       " ORDER BY j.id LIMIT ?4 OFFSET ?5");
-  bind_filters(s);
-  s.bind(4, f.limit).bind(5, f.offset);
-  Page<JobRecord> page;
-  while (s.step()) page.items.push_back(read_job(s));
-  auto n = db->prepare("SELECT count(*) FROM jobs j" + where);
-  bind_filters(n);
-  n.step();
-  page.total = n.int64(0);
+  const RunPage<RunRow> rows = read_run_page(*db, q);
+  RunPage<JobRecord> page{{}, rows.total, rows.next};
+  auto s = db->prepare(std::string("SELECT ") + job_columns + " FROM" + job_tables + " WHERE j.id = ?");
+  for (const RunRow& row : rows.items) {
+    s.reset();
+    s.bind(1, row.id());
+    if (s.step()) page.items.push_back(read_job(s));
+  }
   return page;
 }
 

@@ -12,6 +12,7 @@
 #include "store/job_states.hpp"
 #include "store/label_store.hpp"
 #include "store/queue_store.hpp"
+#include "store/run_table.hpp"
 #include "store/store_db.hpp"
 
 namespace compaction::server {
@@ -109,14 +110,6 @@ struct ArtifactInfo {
   std::int64_t size = 0;
 };
 
-struct JobFilter {
-  std::optional<std::int64_t> sweep_id;
-  std::optional<JobState> state;
-  std::optional<double> phi;
-  int limit = 100;
-  int offset = 0;
-};
-
 template <typename T>
 struct Page {
   std::vector<T> items;
@@ -161,7 +154,8 @@ class StoreReads {
   // hold the job. In id order.
   std::vector<std::int64_t> live_adaptive_sweeps();
   std::vector<std::int64_t> live_adaptive_sweeps_of_job(std::int64_t job_id);
-  Page<JobRecord> jobs(const JobFilter& filter);
+  // The run table's page (run_table.hpp) as the jobs' full records, in one read transaction.
+  RunPage<JobRecord> jobs(const RunQuery& q);
   std::optional<JobDetail> job(std::int64_t id);
   // The runs at phi (within 1e-9), of one sweep and one grid (cells per unit cell) when given.
   std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id,

@@ -221,12 +221,6 @@ json job(const JobRecord& j) {
   return out;
 }
 
-json jobs(const Page<JobRecord>& page, int limit, int offset) {
-  json out = json::array();
-  for (const JobRecord& j : page.items) out.push_back(job(j));
-  return {{"jobs", out}, {"total", page.total}, {"limit", limit}, {"offset", offset}};
-}
-
 json job_detail(const JobDetail& d) {
   json j = job(d.job);
   j["sweeps"] = d.sweeps;

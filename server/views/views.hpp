@@ -23,7 +23,6 @@ nlohmann::json cancelled_sweep(std::int64_t id, std::int64_t cancelled_jobs);
 // and the first `limit` of the candidates the planner ranks now.
 nlohmann::json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit);
 nlohmann::json job(const JobRecord& j);
-nlohmann::json jobs(const Page<JobRecord>& page, int limit, int offset);
 nlohmann::json job_detail(const JobDetail& d);
 nlohmann::json sweep_jobs(const std::vector<JobRecord>& rows);
 // The phase map as JSON text, written directly: 10 000 points as json objects took most of the

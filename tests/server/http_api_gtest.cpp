@@ -9,57 +9,16 @@
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
 #include "http/endpoints.hpp"
-#include "http/http_server.hpp"
-#include "routes/app.hpp"
-#include "temp_dir.hpp"
+#include "loopback_api.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;
 
 namespace {
 
-const std::string submit = "submit-secret";
-const std::string worker = "worker-secret";
+struct ApiTest : LoopbackApi {
+  void configure_app(App& a) override { a.limits.max_points = 50; }
 
-struct ApiTest : ::testing::Test {
-  TempDir dir;
-  std::unique_ptr<Store> store;
-  std::unique_ptr<App> app;
-  HttpServer server;
-  std::thread thread;
-  std::unique_ptr<httplib::Client> client;
-
-  void SetUp() override {
-    StoreConfig c;
-    c.engine_version = compaction::engine_version();
-    store = std::make_unique<Store>(dir.file("api.db"), c);
-    ServerOptions o;
-    o.tokens.add({TokenKind::submit, "", submit}, false);
-    o.tokens.add({TokenKind::worker, "", worker}, false);
-    o.web_dir = "";
-    app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}, {}});
-    app->limits.max_points = 50;
-    register_all_routes(server, *app);
-    const int port = server.bind_to_any_port("127.0.0.1");
-    ASSERT_GT(port, 0);
-    thread = std::thread([this] { server.listen_after_bind(); });
-    // stop() before the listener runs would be lost and TearDown would wait forever.
-    while (!server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    client = std::make_unique<httplib::Client>("127.0.0.1", port);
-    client->set_read_timeout(10, 0);
-  }
-  void TearDown() override {
-    server.stop();
-    if (thread.joinable()) thread.join();
-  }
-
-  httplib::Headers auth(const std::string& token) {
-    return {{"Authorization", "Bearer " + token}};
-  }
-  httplib::Result post(const std::string& path, const std::string& body,
-                       const std::string& token) {
-    return client->Post(path.c_str(), auth(token), body, "application/json");
-  }
   std::int64_t create_sweep() {
     auto r = post("/api/v1/sweeps",
                   R"({"name": "demo", "points": [{"S": 0.05, "R": 0.001, "phi": 0.4}],

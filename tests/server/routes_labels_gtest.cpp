@@ -11,47 +11,23 @@
 #include "compaction/params_json.hpp"
 #include "compaction/result.hpp"
 #include "exchange/export_format.hpp"
-#include "http/http_server.hpp"
-#include "routes/app.hpp"
-#include "temp_dir.hpp"
+#include "loopback_api.hpp"
 
 using namespace compaction::server;
 using nlohmann::json;
 
 namespace {
 
-const std::string submit = "submit-secret";
-const std::string worker = "worker-secret";
-
 const std::string named = "ana-has-her-own-token";
 
-struct LabelApi : ::testing::Test {
-  TempDir dir;
-  std::unique_ptr<Store> store;
-  std::unique_ptr<App> app;
-  HttpServer server;
-  std::thread thread;
-  std::unique_ptr<httplib::Client> client;
+struct LabelApi : LoopbackApi {
   std::int64_t sweep = 0, done = 0, queued = 0;
 
-  void SetUp() override {
-    StoreConfig c;
-    c.engine_version = compaction::engine_version();
-    store = std::make_unique<Store>(dir.file("api.db"), c);
-    ServerOptions o;
-    o.tokens.add({TokenKind::submit, "", submit}, false);
-    o.tokens.add({TokenKind::worker, "", worker}, false);
+  void configure_options(ServerOptions& o) override {
     o.tokens.add({TokenKind::submit, "ana", named}, true);  // as --tokens FILE gives them
-    o.web_dir = "";
-    app = std::unique_ptr<App>(new App{*store, o, {}, {}, {}, {}, {}});
-    register_all_routes(server, *app);
-    const int port = server.bind_to_any_port("127.0.0.1");
-    ASSERT_GT(port, 0);
-    thread = std::thread([this] { server.listen_after_bind(); });
-    while (!server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    client = std::make_unique<httplib::Client>("127.0.0.1", port);
-    client->set_read_timeout(10, 0);
-
+  }
+  void SetUp() override {
+    LoopbackApi::SetUp();
     auto s = send("POST", "/api/v1/sweeps",
                   R"({"name": "demo", "points": [{"S": 0.05, "R": 0.001, "phi": 0.4},
                       {"S": 0.06, "R": 0.001, "phi": 0.4}],
@@ -61,11 +37,6 @@ struct LabelApi : ::testing::Test {
     complete_one("a");
     queued = done == 1 ? 2 : 1;
   }
-  void TearDown() override {
-    server.stop();
-    if (thread.joinable()) thread.join();
-  }
-
   httplib::Result send(const std::string& method, const std::string& path, const std::string& body,
                        const std::string& token) {
     httplib::Headers h;

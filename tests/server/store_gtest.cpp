@@ -15,6 +15,7 @@
 #include "store/migrations.hpp"
 #include "store/sqlite.hpp"
 #include "temp_dir.hpp"
+#include "views/run_table_views.hpp"
 #include "views/views.hpp"
 
 using namespace compaction::server;
@@ -44,7 +45,10 @@ std::optional<json> sweep_of(Store& s, std::int64_t id) {
   const auto r = s.reads.sweep(id);
   return r ? std::optional<json>(views::sweep(*r)) : std::nullopt;
 }
-json jobs_of(Store& s, const JobFilter& f) { return views::jobs(s.reads.jobs(f), f.limit, f.offset); }
+json jobs_of(Store& s, const RunQuery& q) {
+  const RunPage<JobRecord> page = s.reads.jobs(q);
+  return views::jobs(page.items, {page.total, q.limit, q.offset, "id", std::nullopt});
+}
 json phase_map_of(Store& s, double phi, std::optional<std::int64_t> sweep) {
   return json::parse(views::phase_map(phi, s.reads.phase_map(phi, sweep)));
 }
