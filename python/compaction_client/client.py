@@ -132,6 +132,24 @@ def _point_row(point):
     return {k: row.get(k) for k in POINT_COLUMNS}
 
 
+# The run table's filters that take a (min, max) pair in Client.runs.
+RANGE_FILTERS = ("S", "R", "confidence", "n_reflections", "band_speed_ratio")
+
+
+def _query_value(value):
+    # A value of a query parameter as the server reads it: lists comma-separated, booleans
+    # true/false, numbers in full precision; None leaves the parameter out.
+    if value is None or isinstance(value, str):
+        return value
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return ",".join(_query_value(v) for v in value)
+    if hasattr(value, "item"):  # a numpy scalar
+        value = value.item()
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return repr(value) if isinstance(value, float) else str(value)
+
+
 def _id(sweep_or_id):
     # A sweep as the server answers it ({"id": ...}) or its id.
     return sweep_or_id["id"] if isinstance(sweep_or_id, Mapping) else sweep_or_id
@@ -395,6 +413,38 @@ class Client:
         query = {"sweep": None if sweep is None else _id(sweep), "state": state,
                  "phi": None if phi is None else repr(float(phi))}
         return self._all_pages("/jobs", "jobs", query)
+
+    def runs(self, sort="id", limit=None, frame=True, **filters):
+        """The run table (GET /jobs?format=table, docs/service.md "The run table"): a row per
+        run with its columns (id, sweep, state, S, R, phi, preset, cells_per_unit,
+        cells_per_strut, seed, point_id, status, class, confidence, runner_up, n_reflections,
+        band_speed_ratio, human_label, label, source_database, source_job), every page read by
+        its cursor. sort: a column, "-column" descending. limit: the most rows (None: all).
+        filters: the table's parameters by name (sweep, point, state, phi, cells_per_unit,
+        preset, label, human_label, imported, source, q, S_min, ...); cls for class; a list for
+        the comma-separated ones (state=["failed", "cancelled"]); S, R, confidence,
+        n_reflections, band_speed_ratio as (min, max), None for an open end. The server judges
+        the values (ApiError 422 naming the parameter). A pandas DataFrame (ImportError without
+        pandas); frame=False gives a list of dicts."""
+        query = {"format": "table", "sort": sort}
+        for name, value in filters.items():
+            name = "class" if name == "cls" else name
+            if name in RANGE_FILTERS and isinstance(value, (tuple, list)):
+                if len(value) != 2:
+                    raise ValueError("%s: expected (min, max), got %d values" % (name, len(value)))
+                query[name + "_min"], query[name + "_max"] = (_query_value(v) for v in value)
+            else:
+                query[name] = _query_value(_id(value) if name == "sweep" else value)
+        rows, columns, cursor = [], [], None
+        while limit is None or len(rows) < limit:
+            page_rows = PAGE_LIMIT if limit is None else min(PAGE_LIMIT, limit - len(rows))
+            page = self._json("GET", "/jobs", query=dict(query, limit=page_rows, cursor=cursor))
+            rows += page["rows"]
+            columns = page["columns"]
+            cursor = page["next"]
+            if cursor is None:
+                break
+        return _frame(rows, columns, frame, "runs()")
 
     def job(self, job_id):
         """One job: its scene, state, attempts, events, and its result with the run's

@@ -239,6 +239,32 @@ check(sorted(s["id"] for s in client.sweeps()) == sorted([lone["id"], sweep["id"
 check(len(client.jobs(sweep=sweep)) == 2 and len(client.jobs(state="cancelled")) == 1
       and len(client.jobs(phi=0.4)) == 3, "jobs by sweep, state and phi")
 
+# --- the run table: every job as columns, filtered, sorted, its pages read by their cursor ---
+table = client.runs(frame=False)
+check([r["id"] for r in table] == sorted(j["id"] for j in client.jobs()),
+      "the run table holds every job: %s" % table)
+check([r["id"] for r in client.runs(sweep=sweep, frame=False)]
+      == sorted(j["id"] for j in client.jobs(sweep=sweep)), "the runs of a sweep")
+check([r["state"] for r in client.runs(state=["cancelled", "failed"], frame=False)] == ["cancelled"],
+      "a list is comma-separated")
+check(all(r["preset"] == "fast" for r in table), "every run made from the fast preset: %s" % table)
+by_S = client.runs(sort="-S", frame=False)
+check([r["S"] for r in by_S] == sorted((r["S"] for r in table), reverse=True), "sorted by -S")
+check([r["id"] for r in client.runs(S=(0.06, None), frame=False)]
+      == [r["id"] for r in table if r["S"] >= 0.06], "a range with an open end")
+check(len(client.runs(limit=2, frame=False)) == 2, "at most limit rows")
+compaction_client.client.PAGE_LIMIT = 1  # every row a page of its own: the cursor walks them
+check(client.runs(sort="-S", frame=False) == by_S, "pages of one row read by their cursor")
+compaction_client.client.PAGE_LIMIT = 1000
+e = raises(lambda: client.runs(colour="red"), ApiError)
+check(e.status == 422 and e.field == "colour", "an unknown filter: %r" % e)
+e = raises(lambda: client.runs(cls="g"), ApiError)
+check(e.status == 422 and e.field == "class", "cls is the class filter: %r" % e)
+if has_pandas:
+    frame = client.runs(sort="-S")
+    check(list(frame.columns) == client.limits()["jobs"]["columns"] and len(frame) == len(table),
+          "runs as a DataFrame:\n%s" % frame)
+
 # --- replicates: one point run three times, read together as the map's point ---
 e = raises(lambda: client.submit_points("reps", [(0.1, 1e-3, 0.4)], preset="fast", numerics=TINY,
                                         replicates=(0, 0.01)), ApiError)
