@@ -8,7 +8,6 @@
 #include "exchange/base64.hpp"
 #include "http/http_util.hpp"
 #include "http/page_limits.hpp"
-#include "input/json_input.hpp"
 #include "input/safe_text.hpp"
 #include "store/job_states.hpp"
 #include "views/run_table_views.hpp"
