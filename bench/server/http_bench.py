@@ -30,14 +30,16 @@ UPLOAD_MB = 200  # below the server's default --max-upload-mb (256)
 
 
 class Server:
-    def __init__(self, bin_dir, workdir):
+    def __init__(self, bin_dir, workdir, db=None, start_seconds=20):
+        """A server on `db` (default: a new database in a folder of its own below workdir),
+        listening within start_seconds (a migration of a large database takes longer)."""
         self.dir = tempfile.mkdtemp(dir=workdir)
         port_file = os.path.join(self.dir, "port")
         self.proc = subprocess.Popen(
-            [os.path.join(bin_dir, "compaction-server"), "--db", os.path.join(self.dir, "b.db"),
+            [os.path.join(bin_dir, "compaction-server"), "--db", db or os.path.join(self.dir, "b.db"),
              "--port", "0", "--port-file", port_file, "--lease-seconds", "3600",
              "--log-level", "warn"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        deadline = time.time() + 20
+        deadline = time.time() + start_seconds
         while not os.path.exists(port_file):
             if time.time() > deadline or self.proc.poll() is not None:
                 raise RuntimeError("server did not start: " + bin_dir)

@@ -67,14 +67,19 @@ def create(server, body):
     return json.loads(answer)["id"]
 
 
-def multipart(lease, engine, next_lease=None):
+def multipart(lease, engine, next_lease=None, classification=None, status="ok"):
+    """The upload of a fake worker: the leased scene's summary with `classification` (class
+    (a) by default) and one 200-byte frames.csv."""
     scene = lease["scene"]
-    summary = {"status": "ok", "params": scene, "engine_version": engine,
+    summary = {"status": status, "params": scene, "engine_version": engine,
                "source_revision": "queue-bench", "eps_reached": scene["eps_end"],
                "wall_seconds": 0.01,
-               "classification": {"class": "a", "confidence": 0.9, "runner_up": "b",
-                                  "n_reflections": 2, "band_speed_ratio": 1.7,
-                                  "features": {"band_speed_ratio": 1.7, "band_speed_error": 0.01}}}
+               "classification": classification or {
+                   "class": "a", "confidence": 0.9, "runner_up": "b", "n_reflections": 2,
+                   "band_speed_ratio": 1.7,
+                   "features": {"band_speed_ratio": 1.7, "band_speed_error": 0.01}}}
+    if status != "ok":
+        summary["reason"] = "energy blew up"
     parts = [(b"lease_token", None, lease["lease_token"].encode()),
              (b"summary", b"summary.json", json.dumps(summary).encode()),
              (b"files", b"frames.csv", FRAMES_CSV)]
