@@ -25,9 +25,11 @@ mkdir -p "$data/logs"
 url="http://127.0.0.1:$port"
 
 pids=()
+poller=""
 stop_all() {
   trap - INT TERM EXIT
   echo
+  if [ -n "$poller" ]; then kill -TERM "$poller" 2>/dev/null || true; wait "$poller" 2>/dev/null || true; fi
   echo "stopping ${#pids[@]} process(es)..."
   # Workers first (each releases its lease so the job requeues at once), then the server.
   for ((i = ${#pids[@]} - 1; i >= 0; i--)); do
@@ -74,9 +76,14 @@ fi
 echo "phase map: $url/#/map?phi=0.4   (sweeps: $url/#/sweeps, API: $url/api/v1/openapi.yaml)"
 echo "server and $n_workers worker(s) running; logs in $data/logs/. Ctrl-C stops them."
 if [ -n "$demo" ]; then
-  # Says when the demonstration is done (a background poll that ends with it, or with the server).
+  # Says when the demonstration is done (a background poll that ends with it, with the server, or
+  # at once when stop_all stops it: its sleep is a child it waits for and kills on SIGTERM).
   (
-    while sleep 5; do
+    nap=""
+    trap '[ -z "$nap" ] || kill "$nap" 2>/dev/null; exit 0' TERM
+    while :; do
+      sleep 5 & nap=$!
+      wait "$nap"
       state=$(curl -fsS "$url/api/v1/sweeps/$demo" 2>/dev/null | python3 -c '
 import json, sys
 c = json.load(sys.stdin)["counts"]
@@ -89,5 +96,6 @@ print("done %d %d" % (c.get("succeeded", 0), c.get("failed", 0)) if left == 0 el
       esac
     done
   ) &
+  poller=$!
 fi
 wait "${pids[0]}"
