@@ -47,6 +47,8 @@ LevelRun compute(const LevelAction& a) {
 }
 
 struct Sweep {
+  explicit Sweep(LevelsSpec s) : spec(std::move(s)) {}
+
   LevelsSpec spec;
   std::vector<LevelRun> done;
   double cpu = 0;
