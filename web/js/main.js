@@ -1,4 +1,4 @@
-// Hash router of the dashboard: #/map, #/run/ID, #/bands, #/sweeps (query parameters after '?').
+// Hash router of the dashboard: #/map, #/run/ID, #/runs, #/bands, #/sweeps (query parameters after '?').
 // Each page module exports mount(root, params) returning an unmount function (stops its polling).
 import { api } from './api.js';
 import * as phaseMap from './pages/phasemap.js';
@@ -6,6 +6,7 @@ import * as runDetail from './pages/run.js';
 import * as bandSpeed from './pages/bands.js';
 import * as sweeps from './pages/sweeps.js';
 import * as labelAudit from './pages/labels.js';
+import * as runTable from './pages/runs.js';
 import { parseHash } from './router.js';
 
 const routes = [
@@ -14,6 +15,7 @@ const routes = [
   { re: /^\/bands$/, page: bandSpeed, nav: 'bands' },
   { re: /^\/sweeps$/, page: sweeps, nav: 'sweeps' },
   { re: /^\/labels$/, page: labelAudit, nav: 'labels' },
+  { re: /^\/runs$/, page: runTable, nav: 'runs' },
 ];
 
 let unmount = null;

@@ -14,6 +14,7 @@ import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
 import { setParams } from '../router.js';
+import { runsHashOfMap, runsHashOfPoint } from '../runquery.js';
 
 const POLL_MS = 2000;
 // Draw order: pending below finished, labelled on top.
@@ -45,6 +46,7 @@ function pageHtml() {
         <div class="export-row"><span>Export</span>
           <button type="button" class="small" id="map-export-svg">SVG</button>
           <button type="button" class="small" id="map-export-png">PNG</button></div>
+        <p class="map-runs"><a id="map-to-runs" href="#/runs">these runs in the table</a></p>
         <h2 class="legend-title">Legend</h2>
         <ul class="legend" id="map-legend"></ul>
         <ul class="legend legend-keys" id="map-keys"></ul>
@@ -235,7 +237,7 @@ function pointTipHtml(pt, numerics, pinned) {
   ];
   const head = `point ${s.point_id} · ${s.runs} runs${s.robust ? ' · <span class="robust-tag">robust</span>' : ''}`;
   const close = pinned ? '<button type="button" class="tt-close" aria-label="close">×</button>' : '';
-  const foot = pinned ? '' : '<div class="tt-foot">click to pin, then open a run</div>';
+  const foot = pinned ? `<div class="tt-foot"><a href="${runsHashOfPoint(s.point_id)}">these runs in the table</a></div>` : '<div class="tt-foot">click to pin, then open a run</div>';
   return `<div class="tt-head">${close}${head}</div><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('')}</table>
     <div class="tt-runs">${runLinksHtml(runs)}</div>${foot}`;
 }
@@ -474,6 +476,7 @@ function render(page) {
   el.summary.innerHTML = summaryHtml(marks.counts, pts, state.phi, marks.places, hidden);
   shown.figure = figureOf(state, plot, marks, shown.regions, keys);
   refreshPinned(page, pts);
+  page.root.querySelector('#map-to-runs').href = runsHashOfMap(state);
   publishRender(page.root, state, performance.now() - t0, plot, marks, shown.regions);
 }
 

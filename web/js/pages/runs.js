@@ -1,0 +1,365 @@
+// The Runs page (#/runs): every run as a table served a page at a time by GET /api/v1/jobs
+// (format=table, docs/service.md "The run table"), as datasette serves a table. The URL holds
+// the filters, the sort and the page's cursor under the API's own names (js/runquery.js), so a
+// reload or a shared link shows the same rows; the CSV link downloads the whole filtered set in
+// the same order. Which columns, sort keys and parameters there are comes from GET /limits.
+// The cursors of the pages before the one shown are a stack kept in history.state (a reload
+// keeps it); "previous" pops it.
+import { api, ApiError } from '../api.js';
+import { CLASSES, inkOn } from '../classes.js';
+import { escapeHtml, fixed, sci } from '../format.js';
+import { parseHash } from '../router.js';
+import {
+  JOB_STATES, LETTERS, checkQuery, csvQuery, filterNames, mapHashOfQuery, pageHash, rangeNames, readQuery, tableQuery,
+} from '../runquery.js';
+
+// How each column is headed (HTML) and titled; a column not listed is headed by its name.
+const HEADS = {
+  id: ['run', 'job id: opens the run'], sweep: ['sweep', 'the first sweep that holds the run'], state: ['state'],
+  S: ['<i>S</i>', 'Mach number V/√(E/ρ)'], R: ['<i>R</i>', 'relative strength q_y/E'], phi: ['φ', 'solid fraction'],
+  preset: ['preset', 'numerics preset the scene was made from'], cells_per_unit: ['cells/unit', 'cells per unit cell (resolution)'],
+  cells_per_strut: ['cells/strut', 'cells across the thinnest strut'], seed: ['seed'], point_id: ['point', 'the point (its replicates)'],
+  status: ['status'], class: ['class', "the classifier's label"], confidence: ['conf.', "the classifier's confidence"],
+  runner_up: ['runner-up'], n_reflections: ['<i>N</i><sub>r</sub>', 'reflections of the band'],
+  band_speed_ratio: ['<i>c</i><sub>b</sub>/<i>V</i>', 'band speed over the piston speed'],
+  human_label: ['human', "a person's label"], label: ['label', 'the label that counts: a person\'s, else the classifier\'s'],
+  source_database: ['source', 'the database that computed the result (imported runs)'], source_job: ['source job'],
+};
+
+// The ranges' labels (a range not listed is labelled by its name).
+const RANGE_LABELS = {
+  S: '<i>S</i>', R: '<i>R</i>', phi: 'φ', confidence: 'confidence', n_reflections: '<i>N</i><sub>r</sub> (reflections)',
+  band_speed_ratio: '<i>c</i><sub>b</sub>/<i>V</i> (band speed)',
+};
+const PAGE_SIZES = [25, 50, 100, 200, 500, 1000];
+const TYPE_DELAY_MS = 350; // a typed filter applies this long after the last key
+
+function classDot(c) {
+  if (!c) return '<span class="muted">—</span>';
+  const k = CLASSES[c];
+  return k ? `<span class="rt-cls" style="background:${k.color};color:${inkOn(k.color)}" title="${escapeHtml(k.name)}">${c}</span>` : escapeHtml(c);
+}
+
+function cellHtml(col, v) {
+  if (v === null || v === undefined) return '<span class="muted">—</span>';
+  switch (col) {
+    case 'id': return `<a href="#/run/${v}">${v}</a>`;
+    case 'sweep': return `<a href="#/runs?sweep=${v}" title="this sweep's runs">${v}</a>`;
+    case 'point_id': return `<a href="#/runs?point=${v}" title="this point's runs (replicates)">${v}</a>`;
+    case 'state': return `<span class="state-${escapeHtml(v)}">${escapeHtml(v)}</span>`;
+    case 'S': case 'R': return sci(v, 3);
+    case 'phi': return String(Number(v.toPrecision(6)));
+    case 'cells_per_strut': return fixed(v, 2);
+    case 'confidence': return fixed(v, 3);
+    case 'band_speed_ratio': return fixed(v, 3);
+    case 'class': case 'runner_up': case 'human_label': case 'label': return classDot(v);
+    case 'source_database': return `<span class="mono" title="${escapeHtml(v)}">${escapeHtml(v.slice(0, 8))}</span>`;
+    case 'status': return v === 'unstable' ? '<span class="bad">unstable</span>' : escapeHtml(v);
+    default: return escapeHtml(typeof v === 'number' ? String(v) : v);
+  }
+}
+
+function chipsHtml(name, options) {
+  return `<div class="rt-chips" role="group" data-name="${name}">${options.map(([v, text, color]) => `<label class="rt-chip"${color ? ` style="--c:${color}"` : ''}><input type="checkbox" value="${escapeHtml(v)}"><span>${text}</span></label>`).join('')}</div>`;
+}
+
+function errHtml(name) {
+  return `<div class="field-error" data-for="${name}"></div>`;
+}
+
+// The filter form: every filter of limits.jobs.parameters, grouped.
+function formHtml(limits, presets, sweeps) {
+  const names = filterNames(limits);
+  const has = (n) => names.includes(n);
+  const letters = (extra) => [...LETTERS.map((c) => [c, c, CLASSES[c].color]), ...extra];
+  const parts = [];
+  const field = (name, label, control, hint = '') =>
+    `<div class="f rt-f" data-field="${name}"><label for="rt-${name}">${label}</label>${control}${hint ? `<span class="f-hint">${hint}</span>` : ''}${errHtml(name)}</div>`;
+  if (has('q')) parts.push(field('q', 'Search', `<input type="text" id="rt-q" data-name="q" placeholder="sweep name, source id, label reason or who" maxlength="${limits.jobs.q_max_bytes}">`));
+  if (has('class')) parts.push(`<div class="f rt-f" data-field="class"><label>Class <span class="f-hint">(classifier)</span></label>${chipsHtml('class', letters([['none', 'none']]))}${errHtml('class')}</div>`);
+  if (has('label')) parts.push(`<div class="f rt-f" data-field="label"><label>Label that counts</label>${chipsHtml('label', letters([['none', 'none']]))}${errHtml('label')}</div>`);
+  if (has('human_label')) parts.push(`<div class="f rt-f" data-field="human_label"><label>Human label</label>${chipsHtml('human_label', letters([['any', 'any'], ['none', 'none']]))}${errHtml('human_label')}</div>`);
+  if (has('state')) parts.push(`<div class="f rt-f" data-field="state"><label>State</label>${chipsHtml('state', JOB_STATES.map((s) => [s, s]))}${errHtml('state')}</div>`);
+  if (has('sweep')) {
+    const opts = sweeps.map((s) => `<option value="${s.id}">${s.id} · ${escapeHtml(s.name || '')}</option>`).join('');
+    parts.push(field('sweep', 'Sweep', `<select id="rt-sweep" data-name="sweep"><option value="">all sweeps</option>${opts}</select>`));
+  }
+  if (has('preset')) parts.push(`<div class="f rt-f" data-field="preset"><label>Preset <span class="f-hint">(numerics)</span></label>${chipsHtml('preset', [...presets.map((p) => [p, p]), ['none', 'own numerics']])}${errHtml('preset')}</div>`);
+  if (has('cells_per_unit')) {
+    const { lo, hi } = limits.scene.cells_per_unit;
+    parts.push(field('cells_per_unit', 'Cells per unit cell', `<input type="text" id="rt-cells_per_unit" data-name="cells_per_unit" inputmode="numeric" placeholder="e.g. 8,20">`, `resolution, ${lo} to ${hi}; several comma-separated`));
+  }
+  if (has('imported')) parts.push(field('imported', 'Imported', `<select id="rt-imported" data-name="imported"><option value="">imported or not</option><option value="true">imported</option><option value="false">computed here</option></select>`));
+  if (has('phi')) parts.push(field('phi', 'φ exactly', `<input type="text" id="rt-phi" data-name="phi" inputmode="decimal" placeholder="e.g. 0.4">`));
+  for (const r of rangeNames(limits)) {
+    parts.push(`<div class="f rt-f rt-range" data-field="${r}"><label for="rt-${r}_min">${RANGE_LABELS[r] || escapeHtml(r)}</label>
+      <div class="rt-pair"><input type="text" id="rt-${r}_min" data-name="${r}_min" inputmode="decimal" placeholder="min" aria-label="${r} min"><span>to</span><input type="text" id="rt-${r}_max" data-name="${r}_max" inputmode="decimal" placeholder="max" aria-label="${r} max"></div>
+      ${errHtml(`${r}_min`)}${errHtml(`${r}_max`)}</div>`);
+  }
+  if (has('point')) parts.push(field('point', 'Point', `<input type="text" id="rt-point" data-name="point" inputmode="numeric" placeholder="point id (its replicates)">`));
+  if (has('source')) parts.push(field('source', 'Source database', `<input type="text" id="rt-source" data-name="source" placeholder="start of its id (hex)">`));
+  return parts.join('');
+}
+
+function pageHtml() {
+  return `
+    <div class="page-head"><h1>Runs</h1>
+      <p class="sub">Every run, filtered, sorted and paged by the server (<code>GET /api/v1/jobs</code>); the address holds the query, so a link shows the same rows.</p></div>
+    <section class="card rt-filters"><details id="rt-details" open><summary>Filters <span id="rt-active" class="muted"></span></summary>
+      <form id="rt-form" class="rt-grid" autocomplete="off"><p class="muted">loading…</p></form>
+      <div class="rt-filter-foot"><button type="button" class="small" id="rt-clear">Clear filters</button><span class="field-error" data-for="" id="rt-error"></span></div>
+    </details></section>
+    <section class="card rt-card">
+      <div class="rt-bar">
+        <span id="rt-count" class="rt-count">…</span>
+        <span class="rt-pager">
+          <button type="button" class="small" id="rt-first" title="first page">«</button>
+          <button type="button" class="small" id="rt-prev">‹ previous</button>
+          <button type="button" class="small" id="rt-next">next ›</button>
+          <select id="rt-limit" aria-label="rows a page" class="rt-limit"></select>
+        </span>
+        <span class="rt-links"><a id="rt-csv" download href="#">CSV</a> · <a id="rt-map" href="#/map">on the map</a></span>
+      </div>
+      <div class="rt-scroll" id="rt-scroll"><table class="rt" id="rt-table"></table></div>
+      <p class="hint" id="rt-foot"></p>
+    </section>`;
+}
+
+function createPage(root, params) {
+  root.innerHTML = pageHtml();
+  const $ = (id) => root.querySelector(`#${id}`);
+  return {
+    root, params,
+    limits: null, presets: [],
+    query: null, // readQuery's {filters, sort, limit, cursor}
+    stack: [], // cursors of the pages before this one ('' the first page)
+    answer: null,
+    seq: 0, // the newest request; older answers are dropped
+    timer: null,
+    alive: true,
+    el: {
+      form: $('rt-form'), clear: $('rt-clear'), error: $('rt-error'), active: $('rt-active'),
+      count: $('rt-count'), first: $('rt-first'), prev: $('rt-prev'), next: $('rt-next'), limit: $('rt-limit'),
+      csv: $('rt-csv'), map: $('rt-map'), table: $('rt-table'), foot: $('rt-foot'),
+    },
+  };
+}
+
+// The form's controls set from the query's filters.
+function fillForm(page) {
+  const f = page.query.filters;
+  for (const input of page.el.form.querySelectorAll('input[data-name], select[data-name]')) {
+    const v = f[input.dataset.name] ?? '';
+    if (input.tagName === 'SELECT' && v && ![...input.options].some((o) => o.value === v)) input.append(new Option(v, v));
+    input.value = v;
+  }
+  for (const group of page.el.form.querySelectorAll('.rt-chips')) {
+    const on = (f[group.dataset.name] || '').split(',');
+    for (const box of group.querySelectorAll('input')) box.checked = on.includes(box.value);
+  }
+  const n = Object.keys(f).length;
+  page.el.active.textContent = n ? `(${n} set)` : '';
+}
+
+// The filters the form holds.
+function readForm(page) {
+  const f = {};
+  for (const input of page.el.form.querySelectorAll('input[data-name], select[data-name]')) {
+    const v = input.value.trim();
+    if (v !== '') f[input.dataset.name] = v;
+  }
+  for (const group of page.el.form.querySelectorAll('.rt-chips')) {
+    const on = [...group.querySelectorAll('input:checked')].map((b) => b.value);
+    if (on.length) f[group.dataset.name] = on.join(',');
+  }
+  return f;
+}
+
+function showErrors(page, problems) {
+  const { root, el } = page;
+  for (const e of root.querySelectorAll('.field-error')) e.textContent = '';
+  for (const f of root.querySelectorAll('.rt-f.invalid')) f.classList.remove('invalid');
+  for (const p of problems) {
+    const at = root.querySelector(`.rt-f .field-error[data-for="${CSS.escape(p.field)}"]`);
+    if (at) {
+      at.textContent = p.message;
+      at.closest('.rt-f').classList.add('invalid');
+    } else {
+      el.error.textContent = `${p.field ? `${p.field}: ` : ''}${p.message}`;
+    }
+  }
+}
+
+// The page's URL: the query, and the cursor stack in history.state (a reload keeps both).
+function syncUrl(page) {
+  history.replaceState({ runsStack: page.stack }, '', pageHash(page.query, page.limits));
+}
+
+// Applies a query: checks it, writes the URL, asks the server for its page.
+function apply(page) {
+  const problems = checkQuery(page.query, page.limits, page.presets);
+  showErrors(page, problems);
+  fillForm(page);
+  syncUrl(page);
+  updateLinks(page);
+  if (problems.length) {
+    page.el.table.classList.add('stale');
+    page.el.count.textContent = 'fix the marked filter';
+    return;
+  }
+  load(page);
+}
+
+function updateLinks(page) {
+  const { el, query, limits } = page;
+  el.csv.href = `/api/v1/jobs?${csvQuery(query, limits)}`;
+  el.map.href = mapHashOfQuery(query);
+}
+
+async function load(page) {
+  const seq = ++page.seq;
+  const qs = tableQuery(page.query, page.limits);
+  const t0 = performance.now();
+  page.el.table.classList.add('loading');
+  let answer;
+  try {
+    answer = await api.jobs(qs);
+  } catch (e) {
+    if (!page.alive || seq !== page.seq) return;
+    page.el.table.classList.remove('loading');
+    page.el.table.classList.add('stale');
+    page.el.count.textContent = 'not loaded';
+    showErrors(page, [{ field: e instanceof ApiError ? e.field : '', message: e.message }]);
+    publish(page, { query: qs, error: { field: e.field || '', message: e.message } });
+    return;
+  }
+  if (!page.alive || seq !== page.seq) return;
+  page.answer = answer;
+  render(page);
+  page.el.table.classList.remove('loading', 'stale');
+  publish(page, { query: qs, total: answer.total, ids: answer.rows.map((r) => r.id), next: answer.next, page: page.stack.length + 1, ms: performance.now() - t0 });
+}
+
+function render(page) {
+  const { el, answer, query, limits } = page;
+  const cols = answer.columns;
+  const sortKey = query.sort.replace(/^-/, '') || 'id';
+  const desc = query.sort.startsWith('-');
+  const head = cols.map((c) => {
+    const [text, title] = HEADS[c] || [escapeHtml(c)];
+    const sortable = limits.jobs.sort.includes(c);
+    const aria = c === sortKey ? ` aria-sort="${desc ? 'descending' : 'ascending'}"` : '';
+    const arrow = c === sortKey ? `<span class="rt-arrow">${desc ? '▼' : '▲'}</span>` : '';
+    const inner = sortable ? `<button type="button" class="rt-sort" data-col="${c}"${title ? ` title="${escapeHtml(title)}: sort"` : ''}>${text}${arrow}</button>` : `<span${title ? ` title="${escapeHtml(title)}"` : ''}>${text}</span>`;
+    return `<th data-col="${c}"${aria}>${inner}</th>`;
+  }).join('');
+  const body = answer.rows.map((r) => `<tr data-id="${r.id}">${cols.map((c) => `<td data-col="${c}">${cellHtml(c, r[c])}</td>`).join('')}</tr>`).join('');
+  el.table.innerHTML = `<thead><tr>${head}</tr></thead><tbody>${body || `<tr><td colspan="${cols.length}" class="muted rt-empty">No run matches these filters.</td></tr>`}</tbody>`;
+  const first = page.stack.length * answer.limit;
+  const total = answer.total;
+  el.count.innerHTML = total === 0 ? '<b>0</b> runs'
+    : `${(first + 1).toLocaleString()}–${(first + answer.rows.length).toLocaleString()} of <b>${total.toLocaleString()}</b> run${total === 1 ? '' : 's'}`;
+  el.count.dataset.total = String(total);
+  el.prev.disabled = el.first.disabled = page.stack.length === 0;
+  el.next.disabled = !answer.next;
+  const max = limits.jobs.max_csv_rows;
+  el.foot.textContent = total > max ? `The CSV holds the first ${max.toLocaleString()} of the ${total.toLocaleString()} rows (the server's limit).`
+    : 'Click a column\'s head to sort by it, again for the other direction. The CSV holds every row of the filtered set in this order.';
+}
+
+function publish(page, what) {
+  const hook = (window.__dashboard ||= { renders: [] });
+  hook.runs = { ...what, at: performance.now(), n: (hook.runs?.n || 0) + 1 };
+  page.root.dataset.runsRenders = String(hook.runs.n);
+}
+
+// A changed filter starts again at the first page.
+function onFilters(page) {
+  page.query = { ...page.query, filters: readForm(page), cursor: '' };
+  page.stack = [];
+  apply(page);
+}
+
+function wire(page) {
+  const { el } = page;
+  el.form.addEventListener('submit', (ev) => ev.preventDefault());
+  el.form.addEventListener('change', () => { clearTimeout(page.timer); onFilters(page); });
+  el.form.addEventListener('input', (ev) => {
+    if (ev.target.type !== 'text') return;
+    clearTimeout(page.timer);
+    page.timer = setTimeout(() => onFilters(page), TYPE_DELAY_MS);
+  });
+  el.clear.addEventListener('click', () => {
+    page.query = { ...page.query, filters: {}, cursor: '' };
+    page.stack = [];
+    apply(page);
+  });
+  el.table.addEventListener('click', (ev) => {
+    const b = ev.target.closest('.rt-sort');
+    if (!b) return;
+    const c = b.dataset.col;
+    const now = page.query.sort || 'id';
+    page.query = { ...page.query, sort: now === c ? `-${c}` : c, cursor: '' };
+    page.stack = [];
+    apply(page);
+  });
+  el.next.addEventListener('click', () => {
+    if (!page.answer?.next) return;
+    page.stack = [...page.stack, page.query.cursor];
+    page.query = { ...page.query, cursor: page.answer.next };
+    apply(page);
+  });
+  el.prev.addEventListener('click', () => {
+    if (!page.stack.length) return;
+    const stack = [...page.stack];
+    const cursor = stack.pop();
+    page.stack = stack;
+    page.query = { ...page.query, cursor };
+    apply(page);
+  });
+  el.first.addEventListener('click', () => {
+    page.stack = [];
+    page.query = { ...page.query, cursor: '' };
+    apply(page);
+  });
+  el.limit.addEventListener('change', () => {
+    page.query = { ...page.query, limit: el.limit.value, cursor: '' };
+    page.stack = [];
+    apply(page);
+  });
+}
+
+async function start(page) {
+  const { root } = page;
+  let limits, presets, sweeps;
+  try {
+    [limits, presets, sweeps] = await Promise.all([
+      api.limits(), api.presets(), api.sweeps().catch(() => ({ sweeps: [] })),
+    ]);
+  } catch (e) {
+    if (page.alive) page.el.form.innerHTML = `<p class="error">Could not load the table's limits: ${escapeHtml(e.message)}</p>`;
+    return;
+  }
+  if (!page.alive) return;
+  // On a phone the filters start folded (their summary says how many are set).
+  if (window.matchMedia('(max-width: 640px)').matches) root.querySelector('#rt-details').open = false;
+  page.limits = limits;
+  page.presets = presets.presets.map((p) => p.name);
+  page.el.form.innerHTML = formHtml(limits, page.presets, sweeps.sweeps || []);
+  page.query = readQuery(page.params, limits);
+  // The stack of a reload (history.state), if it belongs to this cursor.
+  const kept = history.state?.runsStack;
+  page.stack = page.query.cursor && Array.isArray(kept) ? kept : [];
+  const sizes = [...new Set([...PAGE_SIZES.filter((n) => n <= limits.lists.max_limit), limits.lists.default_limit, Number(page.query.limit) || limits.lists.default_limit])].sort((a, b) => a - b);
+  page.el.limit.innerHTML = sizes.map((n) => `<option value="${n}">${n} a page</option>`).join('');
+  page.el.limit.value = String(Number(page.query.limit) || limits.lists.default_limit);
+  wire(page);
+  apply(page);
+  if (page.query.unknown.length) page.el.error.textContent = `ignored: ${page.query.unknown.join(', ')} (not a parameter of the table)`;
+}
+
+export function mount(root, params) {
+  const page = createPage(root, params || parseHash().params);
+  start(page);
+  return () => { page.alive = false; clearTimeout(page.timer); };
+}
