@@ -82,9 +82,10 @@ test('the phase map draws the predicted regions under its markers and exports SV
     const one = await (await fetch(`${h.url}/api/v1/phase-map/regions?phi=${PHI}&cells_per_unit=${TWIN.numerics.cells_per_unit}`)).json();
     assert.equal(one.runs, 1, 'the numerics filter keeps the twin alone');
 
-    // --- The page: every run and the background.
+    // --- The page: every run and the background. All resolutions: the twin's finer grid would
+    // hide its coarser run by default (map_zoom_test checks the default).
     const page = await h.browser();
-    await page.goto(`${h.url}/#/map?phi=${PHI}`);
+    await page.goto(`${h.url}/#/map?phi=${PHI}&cpu=all`);
     const m = await waitFor(async () => {
       const s = await mapState(page);
       return s && s.count === 26 && s.regions ? s : null;

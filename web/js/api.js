@@ -66,6 +66,8 @@ export const api = {
     phi, ...(sweep ? { sweep } : {}), ...(cpu ? { cells_per_unit: cpu } : {}), ...(grid ? { grid } : {}) })}`),
   sweeps: (limit = 200) => request('GET', `/sweeps?limit=${limit}`),
   sweep: (id) => request('GET', `/sweeps/${id}`),
+  // An adaptive sweep's plan: state, runs and CPU-hours against its budgets, levels, next runs.
+  sweepPlan: (id, limit = 0) => request('GET', `/sweeps/${id}/plan?limit=${limit}`),
   createSweep: (body) => request('POST', '/sweeps', body),
   // What a sweep body would cost (jobs, CPU time, finish on the workers connected); creates nothing.
   estimateSweep: (body) => request('POST', '/sweeps/estimate', body),

@@ -49,7 +49,21 @@ export function logTicks(lo, hi) {
       if (w > lo && w < hi && b - a <= 8) (few && (m === 2 || m === 5) ? major : minor).push(w);
     }
   }
+  // A zoomed axis of a fraction of a decade: round values of the mantissa (0.035, 0.04, ...).
+  if (major.length < 3 && Math.log10(hi / lo) < 1) return { major: linearTicks(lo, hi, 5).major.filter((v) => v > 0), minor: [] };
   return { major, minor };
+}
+
+// A log axis's labelled ticks thinned to at least `gap` px apart (a phone's narrow axis ran its
+// "2×10^-3" into "5×10^-3"): the 2s and 5s become minor ticks first, then every second decade.
+function spacedLogTicks(t, sc, gap) {
+  const crowded = (vs) => vs.some((v, i) => i > 0 && Math.abs(sc.map(v) - sc.map(vs[i - 1])) < gap);
+  if (!crowded(t.major)) return t;
+  const isDecade = (v) => Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9;
+  let major = t.major.filter(isDecade);
+  const minor = [...t.minor, ...t.major.filter((v) => !isDecade(v))];
+  if (major.length > 2 && crowded(major)) major = major.filter((v) => Math.round(Math.log10(v)) % 2 === 0);
+  return major.length ? { major, minor } : t;
 }
 
 function fmtLinear(v, step) {
@@ -63,7 +77,7 @@ function fmtLinear(v, step) {
 function setTickText(text, v, kind, step) {
   if (kind === 'log') {
     const e = Math.floor(Math.log10(v) + 1e-9);
-    const m = Number((v / 10 ** e).toPrecision(2));
+    const m = Number((v / 10 ** e).toPrecision(3)); // 3: a zoomed axis's 3.25; a decade's 2 and 5 print as before
     if (e === 0 || e === 1) { text.textContent = String(Number((m * 10 ** e).toPrecision(2))); return; }
     text.textContent = m === 1 ? '10' : `${m}×10`;
     const sup = svgEl('tspan', { dy: '-0.5em', 'font-size': '0.78em' }, text);
@@ -142,8 +156,8 @@ export class Plot {
     svgEl('rect', { x: m.l, y: m.t, width: pw, height: ph, class: 'plot-area' }, g);
     const grid = svgEl('g', { class: 'plot-grid' }, g);
     const axes = svgEl('g', { class: 'plot-axes' }, this.svg);
-    const xt = opts.x.kind === 'log' ? logTicks(...opts.x.domain) : linearTicks(...opts.x.domain, opts.x.ticks || 7);
-    const yt = opts.y.kind === 'log' ? logTicks(...opts.y.domain) : linearTicks(...opts.y.domain, opts.y.ticks || 6);
+    const xt = opts.x.kind === 'log' ? spacedLogTicks(logTicks(...opts.x.domain), this.x, 52) : linearTicks(...opts.x.domain, opts.x.ticks || 7);
+    const yt = opts.y.kind === 'log' ? spacedLogTicks(logTicks(...opts.y.domain), this.y, 20) : linearTicks(...opts.y.domain, opts.y.ticks || 6);
     const y0 = m.t + ph, x0 = m.l;
     for (const v of xt.minor) {
       const px = this.x.map(v);

@@ -187,9 +187,9 @@ function drawUnsettled(ctx, marks) {
 }
 
 // Draws the markers of points on a canvas context (or an SvgPathContext), each m = { cat, x, y,
-// r, progress, fade, ring, split, unsettled, human }: every marker in the order given, then the
-// pies of the split ones, the rings of the unsettled ones and the marks of the ones a person
-// labelled. A filled shape is a path of its own and the pies' radii share one: chromium fills
+// r, progress, fade, ring, split, unsettled, human, added }: every marker in the order given, then
+// the pies of the split ones, the rings of the unsettled ones, the marks of the ones a person
+// labelled and of the ones an adaptive planner added. A filled shape is a path of its own and the pies' radii share one: chromium fills
 // one path of many polygons ten times slower than many paths of one, and strokes lines the
 // other way round.
 export function drawPointMarks(ctx, marks) {
@@ -197,6 +197,22 @@ export function drawPointMarks(ctx, marks) {
   drawSplits(ctx, marks);
   drawUnsettled(ctx, marks);
   for (const m of marks) if (m.human) drawHumanMark(ctx, m.x, m.y, m.r);
+  for (const m of marks) if (m.added) drawAddedMark(ctx, m.x, m.y, m.r);
+}
+
+// A point an adaptive sweep's planner added after its initial grid (mapplan.js): a white-rimmed
+// ink dot on the upper right of its marker (the middle is a person's label's), ADDED_AT x r out
+// along the diagonal, where the class shapes' corners stay visible beside it.
+export const ADDED_AT = 0.85;
+export const addedDot = (r) => Math.max(1.4, 0.3 * r);
+export function drawAddedMark(ctx, x, y, r) {
+  ctx.beginPath();
+  ctx.arc(x + ADDED_AT * r, y - ADDED_AT * r, addedDot(r), 0, 2 * Math.PI);
+  ctx.fillStyle = UNSETTLED_INK;
+  ctx.fill();
+  ctx.lineWidth = 1;
+  ctx.strokeStyle = '#fff';
+  ctx.stroke();
 }
 
 // One point's marker (the export's, a key's).

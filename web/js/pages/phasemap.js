@@ -4,7 +4,9 @@
 // background and the markers (10,000 stay fast), SVG for axes and overlays. Hover: a tooltip
 // with the point's numbers (or the prediction under the mouse); click: the run's page, or for a
 // point of several runs its tooltip pinned with a link to each. Export: SVG and PNG of the
-// figure with its legend.
+// figure with its legend. Wheel, drag and pinch zoom and pan the view (mapview.js, kept in the
+// URL); by default each place shows its finest runs only (mapnumerics.js); an adaptive sweep's
+// plan and the points its planner added are shown when the sweep is chosen (mapplan.js).
 import { humanTipRows } from '../humanlabels.js';
 import { api } from '../api.js';
 import { CLASSES, STATES, confidenceFade, label, look, swatch } from '../classes.js';
@@ -14,6 +16,9 @@ import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
 import { setParams } from '../router.js';
+import { plotView, spacingRadii, viewOf, viewParams, wireView } from '../mapview.js';
+import { FINEST, numericsCaption, ofNumerics, placeKey } from '../mapnumerics.js';
+import { addedByPlanner, planCaption } from '../mapplan.js';
 import { runsHashOfMap, runsHashOfPoint } from '../runquery.js';
 
 const POLL_MS = 2000;
@@ -32,12 +37,18 @@ function pageHtml() {
       <section class="card figure">
         <div class="figure-plot" id="map-plot"></div>
         <div class="figure-foot"><span id="map-summary" class="summary"></span><span id="map-live" class="live"></span></div>
+        <div class="map-notes">
+          <div class="map-view"><button type="button" class="small" id="map-reset" disabled>reset view</button>
+            <span id="map-view-text" class="muted">wheel or pinch: zoom · drag: pan</span></div>
+          <div id="map-numerics" class="map-caption"></div>
+          <div id="map-plan" class="map-caption" hidden></div>
+        </div>
       </section>
       <aside class="card controls">
         <label class="field">Solid fraction φ
           <select id="map-phi" aria-label="solid fraction phi"></select></label>
         <label class="field">Numerics
-          <select id="map-cpu" aria-label="numerics preset"><option value="all">all resolutions</option></select></label>
+          <select id="map-cpu" aria-label="numerics preset"><option value="finest">finest run per point</option><option value="all">all resolutions</option></select></label>
         <label class="field">Sweep
           <select id="map-sweep" aria-label="sweep"><option value="">all sweeps</option></select></label>
         <label class="check"><input type="checkbox" id="map-buckling"><span>buckling onset <i>R</i><sub>crit</sub> = π²<i>a</i>²/12</span></label>
@@ -59,49 +70,68 @@ function pageHtml() {
 // place, evenly on a circle of SPREAD radii, the coarsest grid first at the top, so none hides
 // another.
 const SPREAD = 1.15;
-function placeOffsets(pts, r) {
-  const bySR = new Map(); // S -> R -> the points there
-  let places = 0;
+function placeOffsets(pts, radiusOf) {
+  const at = new Map(); // place (mapnumerics.js: placeKey) -> the points there
   for (const p of pts) {
-    let byR = bySR.get(p.S);
-    if (!byR) bySR.set(p.S, (byR = new Map()));
-    const g = byR.get(p.R);
+    const g = at.get(placeKey(p));
     if (g) g.push(p);
-    else { byR.set(p.R, [p]); places++; }
+    else at.set(placeKey(p), [p]);
   }
   const off = new Map();
-  for (const byR of bySR.values()) for (const g of byR.values()) {
+  for (const g of at.values()) {
     if (g.length < 2) continue;
     g.sort((a, b) => a.cells_per_unit - b.cells_per_unit || a.id - b.id);
+    const r = radiusOf(g[0]);
     g.forEach((p, k) => {
       const a = -Math.PI / 2 + (2 * Math.PI * k) / g.length;
       off.set(p, [SPREAD * r * Math.cos(a), SPREAD * r * Math.sin(a)]);
     });
   }
-  return { off, places };
+  return off;
+}
+
+// The points whose markers reach into the plot area (a zoomed view leaves the others out of
+// the drawing, the tooltips and the export), and the radius of each place that their spacing on
+// screen allows (mapview.js: spacingRadii), at most the radius for their count.
+function inView(plot, pts) {
+  const pad = markerRadius(pts.length) * (SPREAD + 1.3);
+  const shown = pts.filter((p) => {
+    const x = plot.cx(p.S), y = plot.cy(p.R);
+    return x >= -pad && y >= -pad && x <= plot.pw + pad && y <= plot.ph + pad;
+  });
+  const index = new Map(), xy = [], shared = []; // place -> its index in xy and shared
+  for (const p of shown) {
+    const k = placeKey(p);
+    if (index.has(k)) shared[index.get(k)] = true;
+    else { index.set(k, index.size); xy.push(plot.cx(p.S), plot.cy(p.R)); shared.push(false); }
+  }
+  const most = markerRadius(shown.length);
+  const radii = spacingRadii(Float32Array.from(xy), most, shared);
+  return { shown, most, radiusOf: (p) => radii[index.get(placeKey(p))] };
 }
 
 // Markers of the visible points in a stable draw order (categories by ORDER, classes last; finer
-// resolution over coarser); returns the drawn points, their canvas positions, the counts and
-// what the SVG export redraws (markers).
-function drawPoints(plot, pts) {
-  const r = markerRadius(pts.length);
-  const { off, places } = placeOffsets(pts, r);
+// resolution over coarser), each of its place's radius (radiusOf), at most `most`; `added`: the test of a point an adaptive planner added,
+// or null. Returns the drawn points, their canvas positions, the counts of every visible point
+// (in the view or not) and what the SVG export redraws (markers).
+function drawPoints(plot, pts, all, { most, radiusOf }, added) {
+  const off = placeOffsets(pts, radiusOf);
+  const places = new Set(all.map(placeKey)).size;
   const drawn = pts.map((p) => ({ p, cat: p.cat }));
   drawn.sort((a, b) => (ORDER[a.cat] ?? 9) - (ORDER[b.cat] ?? 9) || a.p.cells_per_unit - b.p.cells_per_unit);
   const positions = new Float32Array(drawn.length * 2); // [x, y] per drawn point (canvas pixels)
   const counts = {};
+  for (const p of all) counts[p.cat] = (counts[p.cat] || 0) + 1;
   const markers = [];
   for (let i = 0; i < drawn.length; i++) {
     const { p, cat } = drawn[i];
     const [dx, dy] = off.get(p) || [0, 0];
-    const x = plot.cx(p.S) + dx, y = plot.cy(p.R) + dy;
+    const x = plot.cx(p.S) + dx, y = plot.cy(p.R) + dy, r = radiusOf(p);
     positions[2 * i] = x; positions[2 * i + 1] = y;
-    counts[cat] = (counts[cat] || 0) + 1;
-    markers.push({ cat, x, y, r, progress: p.progress, fade: p.fade, ring: p.ring, split: p.split, unsettled: p.unsettled, human: p.human });
+    markers.push({ cat, x, y, r, progress: p.progress, fade: p.fade, ring: p.ring, split: p.split, unsettled: p.unsettled, human: p.human, added: !!(added && added(p)) });
   }
   drawPointMarks(plot.ctx, markers);
-  return { drawn, positions, counts, radius: r, markers, places };
+  return { drawn, positions, counts, radius: most, markers, places };
 }
 
 function markerRadius(n) {
@@ -133,7 +163,8 @@ function drawBuckling(plot, model) {
   const y = plot.y.map(Rc);
   svgEl('line', { x1: plot.m.l, x2: plot.m.l + plot.pw, y1: y, y2: y, class: 'overlay-line' }, plot.front);
   const t = svgEl('text', { x: plot.m.l + plot.pw - 8, y: y - 7, 'text-anchor': 'end', class: 'overlay-label' }, plot.front);
-  richText(t, `buckling onset R_{crit} = π²a²/12 ≈ ${sciText(Rc, 2)}   (strut aspect ratio a = ${model.strut_aspect_ratio.toFixed(3)})`);
+  // A phone's narrow plot takes the short label (the long one ran off the card).
+  richText(t, plot.pw < 560 ? `R_{crit} ≈ ${sciText(Rc, 2)}` : `buckling onset R_{crit} = π²a²/12 ≈ ${sciText(Rc, 2)}   (strut aspect ratio a = ${model.strut_aspect_ratio.toFixed(3)})`);
 }
 
 // One legend line per class, then per state, each with its count.
@@ -165,7 +196,7 @@ function renderLegend(legend, counts) {
 // The keys below the legend: marker fading by confidence, the runner-up ring of an unclassified
 // run, a split and an unsettled point when some point has replicates, and the background's tint
 // and grey when it is shown.
-function keyItems(regions, replicated) {
+function keyItems(regions, replicated, added) {
   const items = [0.95, 0.5, 0.05].map((c) => ({ kind: 'confidence', mark: { cat: 'a', fade: confidenceFade(c) }, text: `confidence ${c}` }));
   items.push({ kind: 'runner-up', mark: { cat: 'unclassified', ring: 'b' }, text: 'unclassified, ringed by its runner-up' });
   if (replicated) {
@@ -173,6 +204,7 @@ function keyItems(regions, replicated) {
     items.push({ kind: 'split', mark: { cat: 'a', split: [['a', 0.75], ['b', 0.25]], r: 6.6 }, text: 'replicates split: pie of their classes (a 3 of 4)' });
     items.push({ kind: 'unsettled', mark: { cat: 'a', unsettled: true }, text: 'dashed: not robust (replicates split, failed or pending)' });
   }
+  if (added) items.push({ kind: 'added', mark: { cat: 'a', added: true }, text: 'dot: added by the adaptive planner' });
   if (regions) {
     items.push({ kind: 'region', color: cellColor('a', 0), text: 'background: predicted class' });
     items.push({ kind: 'uncertain', color: cellColor('a', 1), text: 'grey: uncertain prediction' });
@@ -282,13 +314,14 @@ function publishRender(root, state, ms, plot, { drawn, positions, counts, radius
   hook.renders.push(ms);
   hook.renderedAt = performance.now();
   hook.phaseMap = {
-    phi: state.phi, robustOnly: state.robust, count: drawn.length, runs: drawn.reduce((a, d) => a + d.p.runs.length, 0), counts, renderMs: ms, radius,
+    phi: state.phi, robustOnly: state.robust, numerics: numericsChoice(state), view: plotView(plot), zoomed: !!state.view, count: drawn.length, runs: drawn.reduce((a, d) => a + d.p.runs.length, 0), counts, renderMs: ms, radius,
     area: { width: plot.pw, height: plot.ph }, // the canvas over the plot area, in CSS pixels
     regions: regions ? { grid: regions.data.grid, runs: regions.data.runs, x0: regions.x0, y0: regions.y0, x1: regions.x1, y1: regions.y1 } : null,
     points: drawn.map(({ p, cat }, i) => ({
       point_id: p.id, job_id: p.runs[0].job_id, jobs: p.runs.map((q) => q.job_id), cat, color: look(cat).color,
       x: positions[2 * i], y: positions[2 * i + 1], fade: markers[i].fade, ring: markers[i].ring,
       share: p.s.share ?? null, probabilities: p.s.probabilities ?? null, robust: p.robust, unsettled: p.unsettled, split: p.split,
+      cells_per_unit: p.cells_per_unit, added: markers[i].added, r: markers[i].r,
     })),
   };
   root.dispatchEvent(new CustomEvent('phasemap:rendered', { bubbles: true, detail: { ms, count: drawn.length } }));
@@ -303,7 +336,11 @@ function createPage(root, params) {
     root,
     state: {
       phi: params.phi ? Number(params.phi) : null,
-      cpu: params.cpu || 'all',
+      // The grid filter ('all' or cells per unit cell) and, with 'all', whether each place shows
+      // its finest points only (the default: no cpu in the URL; cpu=all shows every grid).
+      cpu: params.cpu && params.cpu !== FINEST ? params.cpu : 'all',
+      finest: !params.cpu || params.cpu === FINEST,
+      view: viewOf(params), // the part of the plane shown (mapview.js), null: every point
       sweep: params.sweep || '',
       buckling: params.buckling !== '0',
       regions: params.regions !== '0',
@@ -312,17 +349,22 @@ function createPage(root, params) {
       runs: [], points: [], signature: '', answer: null, presets: [], sweeps: [], updated: null, error: null,
       // The last /phase-map/regions answer, the filters it is for, and what it was read from.
       regionData: null, regionFor: '', regionKey: '',
+      // The chosen adaptive sweep's plan (GET /sweeps/{id}/plan) and its sweep's id, or null.
+      plan: null, planFor: null, planAt: 0,
     },
     el: {
       plotBox: $('map-plot'), summary: $('map-summary'), live: $('map-live'),
       phi: $('map-phi'), cpu: $('map-cpu'), sweep: $('map-sweep'), buckling: $('map-buckling'), regions: $('map-regions'), robust: $('map-robust'),
       exportSvg: $('map-export-svg'), exportPng: $('map-export-png'), legend: $('map-legend'), keys: $('map-keys'),
+      reset: $('map-reset'), viewText: $('map-view-text'), numerics: $('map-numerics'), plan: $('map-plan'),
     },
     tooltip: document.getElementById('tooltip'),
     // What the last render drew: the plot, the points in draw order with their canvas positions
     // (Float32Array [x, y] per point), the regions shown and the figure for the export.
     shown: { plot: null, drawn: [], positions: null, regions: null, figure: null },
     pinned: null, // the point whose tooltip is pinned (its runs' links can be clicked), or null
+    view: null, // the wheel, drag and pinch handlers (mapview.js: wireView)
+    dragging: false,
     alive: true,
     timer: null, // the next poll
     resizeTimer: null, // the redraw a moment after the last resize
@@ -332,7 +374,72 @@ function createPage(root, params) {
 }
 
 function syncUrl(state) {
-  setParams({ phi: state.phi, cpu: state.cpu === 'all' ? '' : state.cpu, sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0', robust: state.robust ? '1' : '' });
+  setParams({ phi: state.phi, cpu: state.cpu !== 'all' ? state.cpu : state.finest ? '' : 'all', sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0', robust: state.robust ? '1' : '', ...viewParams(state.view) });
+}
+
+// A new view (null: every point), in the URL and drawn.
+function setView(page, view) {
+  page.state.view = view;
+  syncUrl(page.state);
+  render(page);
+}
+
+// The wheel, drag and pinch handlers on the plot's box; a drag hides the hover tooltip.
+function wireZoom(page) {
+  page.view = wireView(page.el.plotBox, {
+    plot: () => page.shown.plot,
+    onView: (view) => { if (page.alive) setView(page, view); },
+    onDrag: (on) => {
+      page.dragging = on;
+      page.el.plotBox.classList.toggle('dragging', on);
+      if (on && !page.pinned) page.tooltip.hidden = true;
+    },
+  });
+}
+
+// The test of "the planner added this point" of the chosen adaptive sweep, or null.
+function planAdded(state) {
+  if (!state.sweep || state.planFor !== state.sweep) return null;
+  return addedByPlanner(state.sweeps.find((x) => String(x.id) === String(state.sweep)), state.plan);
+}
+
+// Reads the chosen sweep's plan when it is adaptive: at most every PLAN_MS, and at once when
+// the sweep changed. A grid sweep, or none, has none.
+const PLAN_MS = 10000;
+async function loadPlan(page) {
+  const { state } = page;
+  const sweep = state.sweeps.find((x) => String(x.id) === String(state.sweep));
+  if (!sweep?.request?.adaptive) {
+    if (state.plan || state.planFor) { state.plan = null; state.planFor = null; render(page); }
+    return;
+  }
+  if (state.planFor === state.sweep && performance.now() - state.planAt < PLAN_MS) return;
+  const id = state.sweep;
+  state.planAt = performance.now();
+  try {
+    const plan = await api.sweepPlan(id);
+    if (!page.alive || id !== state.sweep) return;
+    state.plan = plan;
+    state.planFor = id;
+  } catch (e) {
+    state.plan = null;
+    state.planFor = id; // the initial grid is still known from the request
+    page.el.plan.title = `plan: ${e.message}`;
+  }
+  render(page);
+}
+
+// The captions under the map: the view, the numerics shown, an adaptive sweep's plan.
+function renderNotes(page, added, pts) {
+  const { state, el } = page;
+  el.reset.disabled = !state.view;
+  el.viewText.textContent = state.view
+    ? `log10 S ${state.view.S[0].toFixed(2)} to ${state.view.S[1].toFixed(2)}, log10 R ${state.view.R[0].toFixed(2)} to ${state.view.R[1].toFixed(2)}`
+    : 'wheel or pinch: zoom · drag: pan';
+  el.numerics.textContent = numericsCaption(numericsChoice(state), state.points);
+  const n = added ? pts.filter(added).length : 0;
+  el.plan.hidden = !added;
+  el.plan.innerHTML = added ? planCaption(state.plan, n, pts.length - n) : '';
 }
 
 // The phis of every sweep and the chosen one (without one: the newest sweep's first, else 0.4).
@@ -369,9 +476,9 @@ function presetName(state, cpu) {
 // The grids of the runs, and the chosen one even when no run has it.
 function fillCpuOptions(state, select) {
   const cpus = [...new Set(state.runs.map((p) => p.cells_per_unit))].sort((a, b) => a - b);
-  const keep = state.cpu;
-  select.replaceChildren(new Option('all resolutions', 'all'), ...cpus.map((c) => new Option(presetName(state, c), String(c))));
-  if (keep !== 'all' && !cpus.includes(Number(keep))) select.append(new Option(presetName(state, Number(keep)), keep));
+  const keep = numericsChoice(state);
+  select.replaceChildren(new Option('finest run per point', FINEST), new Option('all resolutions', 'all'), ...cpus.map((c) => new Option(presetName(state, c), String(c))));
+  if (keep !== 'all' && keep !== FINEST && !cpus.includes(Number(keep))) select.append(new Option(presetName(state, Number(keep)), keep));
   select.value = keep;
 }
 
@@ -379,8 +486,11 @@ function fillCpuOptions(state, select) {
 // share their grid), robust ones only when asked.
 const ofGrid = (state, list) => (state.cpu === 'all' ? list : list.filter((p) => String(p.cells_per_unit) === String(state.cpu)));
 const visibleRuns = (state) => ofGrid(state, state.runs);
+// The numerics control's choice: FINEST (every grid, each place's finest), 'all' or one grid.
+const numericsChoice = (state) => (state.cpu === 'all' && state.finest ? FINEST : state.cpu);
+const pointsOfNumerics = (state) => ofNumerics(numericsChoice(state), state.points);
 function visiblePoints(state) {
-  const pts = ofGrid(state, state.points);
+  const pts = pointsOfNumerics(state);
   return state.robust ? pts.filter((p) => p.robust) : pts;
 }
 
@@ -423,13 +533,13 @@ function figureSize(plotBox) {
   return { width, height: Math.round(Math.min(width * (width < 500 ? 1 : 0.68), Math.max(480, window.innerHeight - 250))) };
 }
 
-// A new plot in the box, replacing the last: log S against log R, each axis spanning the points
-// with room at its ends for markers of radius r.
-function newPlot(plotBox, phi, pts, r) {
+// A new plot in the box, replacing the last: log S against log R, each axis the view's (decades)
+// or, without one, spanning the points with room at its ends for markers of radius r.
+function newPlot(plotBox, phi, pts, r, view) {
   const { width, height } = figureSize(plotBox);
   const margin = { l: 78, r: 24, t: 18, b: 60 };
-  const xDom = fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
-  const yDom = fitMarkers(logExtent(pts.map((p) => p.R), [1e-6, 1]), pts.map((p) => p.R), height - margin.t - margin.b, r);
+  const xDom = view ? view.S.map((v) => 10 ** v) : fitMarkers(logExtent(pts.map((p) => p.S), [1e-4, 1]), pts.map((p) => p.S), width - margin.l - margin.r, r);
+  const yDom = view ? view.R.map((v) => 10 ** v) : fitMarkers(logExtent(pts.map((p) => p.R), [1e-6, 1]), pts.map((p) => p.R), height - margin.t - margin.b, r);
   plotBox.replaceChildren();
   return new Plot(plotBox, {
     width, height, canvas: true, title: `phase map at phi = ${phi}`,
@@ -443,7 +553,7 @@ function newPlot(plotBox, phi, pts, r) {
 function drawEmptyNote(plot, state) {
   const t = svgEl('text', { x: plot.m.l + plot.pw / 2, y: plot.m.t + plot.ph / 2, 'text-anchor': 'middle', class: 'empty-note' }, plot.front);
   t.textContent = state.error ? `could not load: ${state.error}`
-    : state.robust && ofGrid(state, state.points).length ? `No robust point at φ = ${state.phi}: none has two replicates that all agree.`
+    : state.robust && pointsOfNumerics(state).length ? `No robust point at φ = ${state.phi}: none has two replicates that all agree.`
       : `No runs at φ = ${state.phi} yet: start a sweep on the Sweeps page.`;
 }
 
@@ -455,13 +565,17 @@ function render(page) {
   const pts = visiblePoints(state);
   // The axes span every point of the grid: "robust only" hides markers, it does not move them
   // (nor leave the regions, read over every run, short of the axes).
-  const all = ofGrid(state, state.points);
-  const plot = (shown.plot = newPlot(el.plotBox, state.phi, all, markerRadius(pts.length)));
+  const all = pointsOfNumerics(state);
+  const plot = (shown.plot = newPlot(el.plotBox, state.phi, all, markerRadius(pts.length), state.view));
+  page.view?.settle();
   // Until new regions arrive the last ones of the same filters stay (no flicker on updates).
   const regionData = state.regions && all.length && state.regionFor === regionFilters(state) ? state.regionData : null;
   const drawnRegions = drawRegions(plot, regionData);
   shown.regions = drawnRegions ? { ...drawnRegions, data: regionData } : null;
-  const marks = drawPoints(plot, pts);
+  const sizes = inView(plot, pts);
+  const inside = sizes.shown;
+  const added = planAdded(state);
+  const marks = drawPoints(plot, inside, pts, sizes, added);
   shown.drawn = marks.drawn;
   shown.positions = marks.positions;
   if (state.buckling) drawBuckling(plot, state.answer?.model);
@@ -470,12 +584,13 @@ function render(page) {
   plot.canvas.dataset.counts = JSON.stringify(marks.counts);
   wireCanvas(page, plot);
   renderLegend(el.legend, marks.counts);
-  const keys = keyItems(shown.regions, state.points.some((p) => p.runs.length > 1));
+  const keys = keyItems(shown.regions, state.points.some((p) => p.runs.length > 1), marks.markers.some((m) => m.added));
   renderKeys(el.keys, keys);
   const hidden = all.length - pts.length;
-  el.summary.innerHTML = summaryHtml(marks.counts, pts, state.phi, marks.places, hidden);
+  el.summary.innerHTML = summaryHtml(marks.counts, pts, state.phi, marks.places, hidden) + (state.view ? ` · <span class="in-view">${inside.length.toLocaleString()} in the view</span>` : '');
+  renderNotes(page, added, pts);
   shown.figure = figureOf(state, plot, marks, shown.regions, keys);
-  refreshPinned(page, pts);
+  refreshPinned(page, inside);
   page.root.querySelector('#map-to-runs').href = runsHashOfMap(state);
   publishRender(page.root, state, performance.now() - t0, plot, marks, shown.regions);
 }
@@ -489,7 +604,8 @@ function figureOf(state, plot, marks, regions, keys) {
       ...Object.entries(STATES).filter(([k]) => marks.counts[k]).map(([k, s]) => ({ cat: k, name: s.name, count: marks.counts[k] })),
       ...keys.map((k) => ({ mark: k.mark, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
     title: `Phase map at phi = ${state.phi}`,
-    note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : ''}${state.robust ? ', robust points only' : ''}`,
+    note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : state.finest ? ', finest run per point' : ''}${state.robust ? ', robust points only' : ''}`,
+      ...(state.view ? [`view: log10 S ${state.view.S.join(' to ')}, log10 R ${state.view.R.join(' to ')}`] : []),
       ...(regions ? [`regions from ${regions.data.runs} labelled runs`] : [])],
   };
 }
@@ -505,6 +621,7 @@ function exportName(state, ext) {
   const parts = [`phase-map-phi${state.phi}`];
   if (state.sweep) parts.push(`sweep${state.sweep}`);
   if (state.cpu !== 'all') parts.push(`cpu${state.cpu}`);
+  if (state.view) parts.push('zoomed');
   if (state.robust) parts.push('robust');
   return `${parts.join('-')}.${ext}`;
 }
@@ -537,6 +654,7 @@ function nearest(shown, ev) {
 function onMove(page, ev) {
   const { shown, tooltip } = page;
   const { plot } = shown;
+  if (page.dragging) return;
   const i = nearest(shown, ev);
   if (page.pinned) { plot.canvas.style.cursor = i < 0 ? '' : 'pointer'; return; }
   if (i < 0) {
@@ -555,7 +673,8 @@ function onMove(page, ev) {
 
 // A point of one run shows that run's numbers; a point of several its replicates'.
 function tipOf(page, p, pinned) {
-  const numerics = presetName(page.state, p.cells_per_unit);
+  const added = planAdded(page.state);
+  const numerics = presetName(page.state, p.cells_per_unit) + (added ? `<br><span class="muted-tt">${added(p) ? 'added by the adaptive planner' : 'of the initial grid'}</span>` : '');
   return p.runs.length === 1 ? tooltipHtml(p.runs[0], p.cat, numerics) : pointTipHtml(p, numerics, pinned);
 }
 
@@ -563,6 +682,7 @@ function tipOf(page, p, pinned) {
 // tooltip (its runs' links can then be clicked); elsewhere it closes a pinned tooltip.
 function onClick(page, ev) {
   const { shown } = page;
+  if (page.view?.wasDrag()) return; // the end of a pan, not a click
   const i = nearest(shown, ev);
   if (i < 0) { unpin(page); page.tooltip.hidden = true; return; }
   const { p } = shown.drawn[i];
@@ -585,6 +705,10 @@ function refreshPinned(page, pts) {
   page.pinned = p;
   page.tooltip.innerHTML = tipOf(page, p, true);
   wireClose(page);
+  // Beside the point where the view now draws it.
+  const i = page.shown.drawn.findIndex((d) => d.p === p);
+  const rect = page.shown.plot.canvas.getBoundingClientRect();
+  if (i >= 0) placeTooltip(page.tooltip, { clientX: rect.left + page.shown.positions[2 * i], clientY: rect.top + page.shown.positions[2 * i + 1] });
 }
 
 function wireClose(page) {
@@ -637,6 +761,7 @@ async function poll(page) {
       takeAnswer(page, data);
       showLive(el.live, state);
       await loadRegions(page);
+      await loadPlan(page);
     } catch (e) {
       state.error = e.message;
       showOffline(el.live, state);
@@ -653,8 +778,14 @@ function wireControls(page) {
   el.regions.checked = state.regions;
   el.robust.checked = state.robust;
   el.phi.addEventListener('change', () => { state.phi = Number(el.phi.value); state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
-  el.cpu.addEventListener('change', () => { state.cpu = el.cpu.value; syncUrl(state); render(page); loadRegions(page); });
-  el.sweep.addEventListener('change', () => { state.sweep = el.sweep.value; state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
+  el.cpu.addEventListener('change', () => {
+    const v = el.cpu.value;
+    state.cpu = v === FINEST ? 'all' : v;
+    state.finest = v === FINEST;
+    syncUrl(state); render(page); loadRegions(page);
+  });
+  el.reset.addEventListener('click', () => setView(page, null));
+  el.sweep.addEventListener('change', () => { state.sweep = el.sweep.value; state.signature = ''; state.answer = null; state.plan = null; state.planFor = null; syncUrl(state); poll(page); });
   el.buckling.addEventListener('change', () => { state.buckling = el.buckling.checked; syncUrl(state); render(page); });
   el.regions.addEventListener('change', () => { state.regions = el.regions.checked; syncUrl(state); render(page); loadRegions(page); });
   // Robust only hides points; the regions stay those of every labelled run.
@@ -702,6 +833,7 @@ function stop(page) {
   clearTimeout(page.resizeTimer);
   window.removeEventListener('resize', page.onResize);
   document.removeEventListener('keydown', page.onKey);
+  page.view?.remove();
   unpin(page);
   page.tooltip.hidden = true;
 }
@@ -709,6 +841,7 @@ function stop(page) {
 export function mount(root, params) {
   const page = createPage(root, params);
   wireControls(page);
+  wireZoom(page);
   watchResize(page);
   start(page);
   return () => stop(page);
