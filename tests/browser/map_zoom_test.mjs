@@ -200,6 +200,13 @@ test('the phase map zooms and pans, keeps its view in the URL and shows the fine
     await page.waitForTimeout(400);
     await shot(page, 'map-zoom-06-zoomed-scan-1440x900');
 
+    // A plain click on a marker still opens its run (a drag only captures the pointer once it moves).
+    const one = await mapState(page);
+    const mark = one.points.find((p) => p.r >= 4 && p.x > 20 && p.y > 20 && p.x < one.area.width - 20 && p.y < one.area.height - 20);
+    const cbox = await canvasBox(page, '#map-plot canvas');
+    await page.mouse.click(cbox.x + mark.x, cbox.y + mark.y);
+    await waitFor(async () => hash(page) === `#/run/${mark.job_id}`, { what: `the run page of ${mark.job_id} after a click` });
+
     assert.deepEqual(h.pageErrors, [], 'no errors in the page');
   } catch (e) {
     for (const [k, v] of Object.entries(h.logs)) if (v) console.log(`# ${k} log tail:\n${v.slice(-3000)}`);

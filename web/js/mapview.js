@@ -95,9 +95,9 @@ export function wireView(box, { plot, onView, onDrag }) {
   const onDown = (ev) => {
     const a = area(ev);
     if (!a || (ev.pointerType === 'mouse' && ev.button !== 0)) return;
+    if (ev.pointerType === 'mouse') { down.clear(); dragged = false; } // a press whose release was missed
     if (down.size >= 2) return; // a third finger changes nothing
     down.set(ev.pointerId, { x: a.x, y: a.y });
-    try { box.setPointerCapture(ev.pointerId); } catch { /* not capturable */ }
     begin(); // a second finger starts a pinch from here
   };
   const onMove = (ev) => {
@@ -107,7 +107,13 @@ export function wireView(box, { plot, onView, onDrag }) {
     q.x = ev.clientX - r.left; q.y = ev.clientY - r.top;
     const c = centre();
     if (!dragged && Math.hypot(c.x - start.x, c.y - start.y) < DRAG_FROM && Math.abs(c.d - start.d) < DRAG_FROM) return;
-    if (!dragged) { dragged = true; onDrag(true); }
+    if (!dragged) {
+      dragged = true;
+      // Captured only once it is a drag: a capture at the press would send the click of a plain
+      // press to the box instead of the marker's canvas.
+      for (const id of down.keys()) try { box.setPointerCapture(id); } catch { /* gone */ }
+      onDrag(true);
+    }
     const factor = start.d > 0 && c.d > 0 ? start.d / c.d : 1;
     show(moved(start.view, start.x, start.y, c.x, c.y, factor, r.width, r.height));
   };
