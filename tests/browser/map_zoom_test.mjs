@@ -196,6 +196,21 @@ test('the phase map zooms and pans, keeps its view in the URL and shows the fine
     const phone = await page.evaluate(() => ({ doc: document.documentElement.scrollWidth, vw: window.innerWidth }));
     assert.ok(phone.doc <= phone.vw, `zoomed: scrollWidth ${phone.doc} > ${phone.vw}`);
     await shot(page, 'map-zoom-05-zoomed-390x844');
+    // Two fingers spread apart zoom in about their middle (touch through the DevTools protocol).
+    const cdp = await page.context().newCDPSession(page);
+    await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 5 });
+    const before = await mapState(page);
+    const tb = await canvasBox(page, '#map-plot canvas');
+    const [mx, my] = [tb.x + tb.width / 2, tb.y + tb.height / 2];
+    const fingers = (d) => [{ x: mx - d, y: my, id: 1 }, { x: mx + d, y: my, id: 2 }];
+    since = await renderedAt(page);
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: fingers(30) });
+    for (const d of [40, 50, 60]) await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove', touchPoints: fingers(d) });
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    const pinched = await nextRender(page, since, (s) => span(s.view)[0] < 0.6 * span(before.view)[0], 'the pinched map');
+    const mid = (v) => [(v.S[0] + v.S[1]) / 2, (v.R[0] + v.R[1]) / 2];
+    assert.ok(Math.abs(mid(pinched.view)[0] - mid(before.view)[0]) < 0.01 * span(before.view)[0], 'zoomed about the fingers\' middle');
+    await cdp.send('Emulation.setTouchEmulationEnabled', { enabled: false });
     await page.setViewportSize({ width: 1440, height: 900 });
     await page.waitForTimeout(400);
     await shot(page, 'map-zoom-06-zoomed-scan-1440x900');
