@@ -115,7 +115,10 @@ void register_service_routes(httplib::Server& server, App& app) {
               {{"status", "ok"},
                {"engine_version", compaction::engine_version()},
                {"source_revision", compaction::source_revision()},
-               {"jobs", jobs}});
+               {"jobs", jobs},
+               // Whether a role's writes need a token, so a page asks for one only where needed.
+               {"tokens", {{"submit", app.options.tokens.open(TokenKind::submit) ? "open" : "required"},
+                           {"worker", app.options.tokens.open(TokenKind::worker) ? "open" : "required"}}}});
   });
 
   auto metrics = [&app](const httplib::Request&, httplib::Response& res) {

@@ -173,7 +173,10 @@ test('every schema of the document compiles as JSON Schema, and the checker refu
 });
 
 test('service answers: health, metrics, this document, presets, limits', async () => {
-  engineVersion = json(await sample('GET', '/health', { status: 200 })).engine_version;
+  const health = json(await sample('GET', '/health', { status: 200 }));
+  engineVersion = health.engine_version;
+  // Both roles have a token here (--tokens): the dashboard asks for one where it says so.
+  assert.deepEqual(health.tokens, { submit: 'required', worker: 'required' });
   await sample('GET', '/metrics', { status: 200 });
   const served = await sample('GET', '/openapi.yaml', { status: 200 });
   assert.match(served.text, /^openapi: 3\.0\.3/);

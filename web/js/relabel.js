@@ -17,13 +17,22 @@ function badge(cls) {
   return c ? `<span class="badge cls" style="--c:${c.color};color:${inkOn(c.color)}">${escapeHtml(label(cls))}</span>` : '—';
 }
 
+// The run's changes, newest first: one compact entry each (what, who, when on a line, why below).
 function historyHtml(changes) {
   if (!changes.length) return '<p class="muted">No human label has been set on this run.</p>';
-  const rows = changes.map((c) => {
-    const what = c.action === 'cleared' ? `removed ${c.previous_label ? escapeHtml(c.previous_label) : ''}` : `${escapeHtml(c.action)} ${escapeHtml(c.label || '')}`;
-    return `<tr><td>${escapeHtml(when(c.at))}</td><td>${escapeHtml(c.by)}</td><td>${what}</td><td>${escapeHtml(c.reason)}</td></tr>`;
+  const items = changes.map((c) => {
+    const what = c.action === 'cleared' ? `removed ${c.previous_label ? escapeHtml(c.previous_label) : ''}` : `${escapeHtml(c.action)} <b>${escapeHtml(c.label || '')}</b>`;
+    return `<li><div class="lc-head"><span>${what} by <b>${escapeHtml(c.by)}</b></span><time class="muted">${escapeHtml(when(c.at))}</time></div>${c.reason ? `<div class="lc-why">${escapeHtml(c.reason)}</div>` : ''}</li>`;
   });
-  return `<table class="kv label-history"><tr><th>when</th><th>who</th><th>what</th><th>why</th></tr>${rows.join('')}</table>`;
+  return `<ol class="label-history">${items.join('')}</ol>`;
+}
+
+// Whether the server wants a submit token (GET /health's tokens.submit), asked once per page
+// load; null when it does not say (an older server): the field then shows after a 401.
+let tokensAsked = null;
+function submitTokenRequired() {
+  if (!tokensAsked) tokensAsked = api.health().then((h) => (h.tokens ? h.tokens.submit === 'required' : null), () => { tokensAsked = null; return null; });
+  return tokensAsked;
 }
 
 // Checks the form as the server will (the server still checks everything): field -> message.
@@ -53,15 +62,18 @@ export function showRelabel(box, job, reload) {
       ? `${badge(h.label)} set by <b>${escapeHtml(h.by)}</b> ${escapeHtml(when(h.at))}: ${escapeHtml(h.reason)}<br><span class="muted">classifier: ${job.result.class ? escapeHtml(label(job.result.class)) : 'no label'}; the map and the adaptive planner use the person's label</span>`
       : `<span class="muted">The classifier's label stands (${job.result.class ? escapeHtml(label(job.result.class)) : 'none'}).</span>`}</div>
     <form class="relabel" id="relabel-form" novalidate>
-      <label>Class <select name="label" id="rl-label"><option value="">—</option>${options}</select></label> <span class="field-error" data-for="label"></span>
-      <label>Why <textarea name="reason" id="rl-reason" rows="2" maxlength="${REASON_MAX}" placeholder="what in the outputs shows it"></textarea></label> <span class="field-error" data-for="reason"></span>
-      <label>Who <input name="by" id="rl-by" maxlength="${BY_MAX}" value="${escapeHtml(rememberedBy())}"></label> <span class="field-error" data-for="by"></span>
-      <label class="rl-token" id="rl-token-row" hidden>Submit token <input id="rl-token" type="password" autocomplete="off" value="${escapeHtml(submitToken())}"></label> <span class="field-error" data-for="Authorization"></span>
-      <div><button type="submit" id="rl-save">Set label</button> ${h ? '<button type="button" id="rl-clear">Remove label</button>' : ''} <span class="muted" id="rl-message"></span></div>
+      <div class="rl-row">
+        <div class="f"><label for="rl-label">Class</label><select name="label" id="rl-label"><option value="">—</option>${options}</select><span class="field-error" data-for="label"></span></div>
+        <div class="f"><label for="rl-by">Who</label><input type="text" name="by" id="rl-by" maxlength="${BY_MAX}" value="${escapeHtml(rememberedBy())}" placeholder="your name"><span class="field-error" data-for="by"></span></div>
+      </div>
+      <div class="f"><label for="rl-reason">Why</label><textarea name="reason" id="rl-reason" rows="3" maxlength="${REASON_MAX}" placeholder="what in the outputs shows it"></textarea><span class="field-error" data-for="reason"></span></div>
+      <div class="f rl-token" id="rl-token-row" hidden><label for="rl-token">Submit token <span class="f-hint">this server wants one; kept in this browser</span></label><input id="rl-token" type="password" autocomplete="off" value="${escapeHtml(submitToken())}"><span class="field-error" data-for="Authorization"></span></div>
+      <div class="rl-actions"><button type="submit" class="primary" id="rl-save">Set label</button>${h ? '<button type="button" class="small" id="rl-clear">Remove label</button>' : ''}<span class="muted" id="rl-message"></span></div>
     </form>
     <h2 class="sub-h">Changes</h2><div id="rl-history"><p class="muted">loading…</p></div>`;
   const form = box.querySelector('#relabel-form');
   const $ = (s) => box.querySelector(s);
+  submitTokenRequired().then((required) => { if (required) $('#rl-token-row').hidden = false; });
   const showErrors = (errors) => {
     for (const el of box.querySelectorAll('.field-error')) el.textContent = errors[el.dataset.for] || '';
     if (errors.Authorization) $('#rl-token-row').hidden = false;

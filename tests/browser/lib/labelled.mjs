@@ -21,7 +21,8 @@ function multipart(parts) {
   return { body, contentType: `multipart/form-data; boundary=${boundary}` };
 }
 
-// verdict(scene) -> { class, confidence, runner_up, n_reflections, band_speed_ratio } or null
+// verdict(scene) -> { class, confidence, runner_up, n_reflections, band_speed_ratio, and
+// optionally features (more of them, over the two made here) and frames (frames.csv's text) } or null
 // (an unclassified run: class null, the other numbers kept). Completes every job queued for
 // the server's engine; returns the number completed.
 export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
@@ -39,7 +40,7 @@ export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
     const classification = {
       class: v.class, confidence: v.confidence ?? null, runner_up: v.runner_up ?? null,
       n_reflections: v.n_reflections ?? null, band_speed_ratio: v.band_speed_ratio ?? null,
-      features: { band_speed_ratio: v.band_speed_ratio ?? null, band_speed_error: v.band_speed_ratio ? 0.05 * v.band_speed_ratio : null },
+      features: { band_speed_ratio: v.band_speed_ratio ?? null, band_speed_error: v.band_speed_ratio ? 0.05 * v.band_speed_ratio : null, ...(v.features || {}) },
     };
     const summary = {
       status: 'ok', params: l.scene, engine_version: health.engine_version, source_revision: 'browser-test',
@@ -48,7 +49,7 @@ export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
     const { body, contentType } = multipart([
       { name: 'lease_token', value: l.lease_token },
       { name: 'summary', filename: 'summary.json', type: 'application/json', value: JSON.stringify(summary) },
-      { name: 'files', filename: 'frames.csv', type: 'text/csv', value: FRAMES_CSV },
+      { name: 'files', filename: 'frames.csv', type: 'text/csv', value: v.frames ?? FRAMES_CSV },
     ]);
     const res = await fetch(`${url}/api/v1/jobs/${l.job_id}/complete`, {
       method: 'POST', body, headers: { 'Content-Type': contentType },

@@ -5,7 +5,8 @@ import { api, fetchArtifact } from '../api.js';
 import { majorityCount, notRobustWhy, probabilitiesHtml, runStateText, spreadText } from '../points.js';
 import { showRelabel } from '../relabel.js';
 import { CLASSES, category, inkOn, label, look } from '../classes.js';
-import { Plot, colormap, colorBar, linearExtent, svgEl } from '../plot.js';
+import { Plot, colormap, colorBar, linearExtent, logExtent, svgEl } from '../plot.js';
+import { effectiveLabel, groupFeatures, hasBand, loadGlossary } from '../glossary.js';
 import { parseNpy } from '../npy.js';
 import { parseMovie } from '../movie.js';
 import { particleFigure, RATE_LABEL } from '../particles.js';
@@ -28,6 +29,7 @@ function pageHtml(id) {
       <a class="back" href="#/map">← phase map</a>
       <h1 id="run-title">Run ${id}</h1>
       <p class="sub" id="run-sub">loading…</p>
+      <div class="run-import" id="run-import" hidden></div>
       <div class="replicates" id="run-replicates" hidden></div>
     </div>
     <div class="grid-run">
@@ -51,13 +53,17 @@ function createPage(root, id) {
   return {
     id,
     el: {
-      title: $('run-title'), sub: $('run-sub'), replicates: $('run-replicates'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
+      title: $('run-title'), sub: $('run-sub'), imported: $('run-import'), replicates: $('run-replicates'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
       classBox: $('class-box'), label: $('label-box'), params: $('params-box'), state: $('state-box'), files: $('files-box'),
     },
     alive: true,
     timer: null, // the next load while the run is queued or running
     shownState: null, // the job's state when its artifacts were last drawn
     stopMovie: () => {},
+    glossary: null, // web/data/feature-glossary.json (glossary.js)
+    provenance: undefined, // an imported run's: its imported sweep's `imported` (null: none found)
+    stressScale: 'log', // the plate-stress plot's y axis: 'log' or 'linear'
+    frames: null, // frames.csv, parsed (the stress plot redraws from it)
   };
 }
 
@@ -75,12 +81,15 @@ async function load(page) {
     if (e.status !== 404 && page.alive) page.timer = setTimeout(() => load(page), POLL_MS * 2);
     return;
   }
+  if (!page.glossary) page.glossary = await loadGlossary();
+  if (job.result?.origin && page.provenance === undefined) page.provenance = await importProvenance(job);
   if (!page.alive) return;
   renderHead(el, job);
+  renderImport(el.imported, job, page.provenance);
   renderReplicates(page, job); // beside the rest: it reads the map, the page need not wait
   el.state.innerHTML = stateHtml(job);
   el.params.innerHTML = paramsHtml(job);
-  el.classBox.innerHTML = classHtml(job.result);
+  el.classBox.innerHTML = classHtml(job, page.glossary);
   showRelabel(el.label, job, () => load(page));
   const finished = ['succeeded', 'failed', 'cancelled'].includes(job.state);
   if (job.state !== page.shownState && (job.result || finished)) {
@@ -102,6 +111,35 @@ function renderHead(el, job) {
   const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
   el.sub.innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell (${Number(job.cells_per_strut).toFixed(1)} across a strut)${progress}`;
   document.title = `run ${job.id} · compaction-sweep`;
+}
+
+// An imported run's provenance: the `imported` of the first of its sweeps that was imported
+// (GET /sweeps/{id}: the exporting server, its sweep, when it was exported and imported), null
+// when none of its sweeps says (the run is then still shown as imported, from result.origin).
+async function importProvenance(job) {
+  for (const id of job.sweeps || []) {
+    try {
+      const s = await api.sweep(id);
+      if (s.imported) return { ...s.imported, local_sweep: s.id };
+    } catch { /* the next one */ }
+  }
+  return null;
+}
+
+const shortId = (db) => `<code title="${escapeHtml(db)}">${escapeHtml(String(db).slice(0, 8))}…</code>`;
+
+// The line under the title of an imported run: where it was computed (the database and job of
+// result.origin), which server exported it and when it came here; its times are the source's.
+function renderImport(box, job, prov) {
+  const o = job.result?.origin;
+  if (!o) { box.hidden = true; box.replaceChildren(); return; }
+  box.hidden = false;
+  const src = prov?.source;
+  const via = src
+    ? ` Source server <b id="run-source-server">${escapeHtml(src.server || 'unknown')}</b>${src.database && src.database !== o.database ? ` (database ${shortId(src.database)})` : ''}: exported from its sweep ${escapeHtml(prov.source_sweep ?? prov.sweep ?? '?')} on ${escapeHtml(when(prov.exported_at))}, imported here into <a href="#/sweeps">sweep #${prov.local_sweep}</a> on ${escapeHtml(when(o.imported_at ?? prov.imported_at))}.`
+    : ` Imported here on ${escapeHtml(when(o.imported_at))}.`;
+  box.innerHTML = `<b>Imported run.</b> Computed as <b id="run-source-job">job ${escapeHtml(o.job)}</b> of database ${shortId(o.database)} by worker ${escapeHtml(job.result.worker || '—')}.${via}
+    Its times are the source's clock. <span id="run-import-files"></span>`;
 }
 
 // A replicate's point: how many runs it has, the point's majority, share and robustness with
@@ -127,18 +165,18 @@ async function renderReplicates(page, job) {
   const what = [seed !== undefined ? `seed ${seed}` : '', pert ? `perturbation ${pert}` : ''].filter(Boolean).join(', ');
   const links = others.map((id) => `<li><a href="#/run/${id}" data-job="${id}">run ${id}</a>${runs.has(id) ? ` <span class="run-state">${runStateText(runs.get(id))}</span>` : ''}</li>`).join('');
   box.innerHTML = `<div class="rep-head">Replicate${what ? ` (${what})` : ''} of point ${job.point_id}: <b>${total} runs</b></div>
-    ${s ? `<div class="rep-point">${pointLine(s)}</div>` : ''}
+    ${s ? `<div class="rep-point">${pointLine(page, s)}</div>` : ''}
     <div class="rep-others"><span class="muted">the other ${others.length === 1 ? 'run' : `${others.length} runs`}:</span><ul class="siblings">${links}</ul></div>`;
 }
 
 // The point's majority and share (its classes when they split), robustness and c_b/V over its
 // replicates.
-function pointLine(s) {
+function pointLine(page, s) {
   if (!s.label) return `the point: ${s.finished} of ${s.runs} finished, none labelled yet`;
   const c = CLASSES[s.label];
   const classes = s.share < 1 ? `; ${probabilitiesHtml(s.probabilities)}` : '';
   const robust = s.robust ? '<b class="robust">robust</b>' : `not robust <span class="muted">(${notRobustWhy(s)})</span>`;
-  const speed = s.band_speed_ratio ? ` · <i>c</i><sub>b</sub>/<i>V</i> ${spreadText(s.band_speed_ratio, 3)}` : '';
+  const speed = s.band_speed_ratio && hasBand(page.glossary, s.label, s.band_speed_ratio.mean) ? ` · <i>c</i><sub>b</sub>/<i>V</i> ${spreadText(s.band_speed_ratio, 3)}` : '';
   return `the point: <span class="dot" style="background:${c.color}"></span>${escapeHtml(label(s.label))} in ${majorityCount(s)} of ${s.labelled} labelled (share ${fixed(s.share, 2)}${classes}) · ${robust}${speed}`;
 }
 
@@ -150,7 +188,19 @@ async function renderArtifacts(page, job) {
   try { list = (await api.artifacts(id)).artifacts; } catch { list = []; }
   if (!page.alive) return;
   const names = new Set(list.map((a) => a.name));
-  el.files.innerHTML = filesHtml(list, job, id);
+  // An imported run whose export carried no files (artifacts=none): one card says so in place
+  // of the four figures, instead of reasons that are not true of the run (docs/dashboard.md,
+  // "Imported runs").
+  page.absent = job.result?.origin && !list.length ? 'not on this server: this run was imported without its files' : null;
+  el.files.innerHTML = filesHtml(list, job, id, page.absent);
+  for (const box of [el.stress, el.snapshot, el.movie]) box.closest('.card').hidden = Boolean(page.absent);
+  el.spacetime.closest('.card').querySelector('h2').textContent = page.absent ? 'Figures' : 'Space-time map of the plastic strain rate';
+  if (page.absent) {
+    const note = el.imported.querySelector('#run-import-files');
+    if (note) note.textContent = 'Its files are not on this server (the export carried its results, features and provenance only).';
+    el.spacetime.innerHTML = `<p class="muted absent">No space-time map, plate stresses, snapshot or movie: the files are ${page.absent}. The numbers below are the source's.</p>`;
+    return;
+  }
   const summary = job.result?.summary || {};
   let frames = null;
   if (names.has('frames.csv')) {
@@ -159,7 +209,8 @@ async function renderArtifacts(page, job) {
   if (!page.alive) return;
   const scale = { lut: colormap('inferno'), vmax: await renderSpacetime(page, names, summary, frames) };
   if (!page.alive) return;
-  renderStress(el.stress, frames, summary, id);
+  page.frames = frames;
+  renderStress(page, summary);
   await renderSnapshot(el.snapshot, list, summary, scale, id);
   if (!page.alive) return;
   await renderMovie(page, names, summary, scale);
@@ -227,17 +278,20 @@ export function mount(root, params) {
 function stateHtml(job) {
   const r = job.result || {};
   const s = r.summary || {};
-  const queued = job.started_at && job.created_at ? (job.started_at - job.created_at) / 1000 : null;
-  const ran = job.finished_at && job.started_at ? (job.finished_at - job.started_at) / 1000 : null;
+  // An imported run was created here when it was imported, after the source started it: its
+  // start and finish are the source's clock, and its wait in the source's queue is not known.
+  const imported = Boolean(r.origin);
+  const span = (a, b) => (a && b && b >= a ? (b - a) / 1000 : null);
+  const src = imported ? ' <span class="unit">source\'s clock</span>' : '';
   const rows = [
     ['state', `<span class="state-text state-${job.state}">${job.state}</span>${r.status ? ` (result ${escapeHtml(r.status)}${r.reason ? `: ${escapeHtml(r.reason)}` : ''})` : ''}`],
-    ['worker', escapeHtml(r.worker || job.worker || '—')],
+    ['worker', `${escapeHtml(r.worker || job.worker || '—')}${imported ? ' <span class="unit">the source\'s</span>' : ''}`],
     ['attempts', `${job.attempts} of ${job.max_attempts}`],
-    ['created', when(job.created_at)],
-    ['started', when(job.started_at)],
-    ['finished', when(job.finished_at)],
-    ['waited in queue', duration(queued)],
-    ['run time (lease to result)', duration(ran)],
+    ...(imported ? [] : [['created', when(job.created_at)]]),
+    ['started', when(job.started_at) + src],
+    ['finished', when(job.finished_at) + src],
+    ...(imported ? [['imported here', when(r.origin.imported_at ?? job.created_at)]] : [['waited in queue', duration(span(job.created_at, job.started_at))]]),
+    ['run time (lease to result)', duration(span(job.started_at, job.finished_at)) + src],
     ['simulation wall time', duration(r.wall_seconds ?? s.wall_seconds)],
     ['steps · particles', s.steps ? `${s.steps.toLocaleString()} · ${s.n_particles?.toLocaleString()}` : '—'],
     ['cost', s.ns_per_particle_step ? `${fixed(s.ns_per_particle_step, 0)} ns per particle-step` : '—'],
@@ -271,11 +325,14 @@ function paramsHtml(job) {
   return `<div class="cols2">${table(rows.slice(0, half))}${table(rows.slice(half))}</div>`;
 }
 
-// The label with its confidence and runner-up, N_r, c_b/V and every feature the result carries.
-function classHtml(r) {
+// The label with its confidence and runner-up, N_r, c_b/V (only for a run with a band), then
+// every feature the result carries in the glossary's groups, each with its one-line explanation.
+function classHtml(job, glossary) {
+  const r = job.result;
   if (!r) return '<p class="muted">no result yet</p>';
   if (!r.class) {
-    return `<p class="muted">${r.status === 'unstable' ? 'Numerically unstable run: not classified.' : 'Done, unclassified: the classifier gave no label for this run (or has not run on it).'}</p>`;
+    return `<p class="muted">${r.status === 'unstable' ? 'Numerically unstable run: not classified.' : 'Done, unclassified: the classifier gave no label for this run (or has not run on it).'}</p>`
+      + (r.features ? featuresHtml(r.features, glossary, false, null, job.id) : '');
   }
   const c = CLASSES[r.class];
   const conf = r.confidence ?? null;
@@ -283,31 +340,55 @@ function classHtml(r) {
     <div><div class="class-name">${escapeHtml(c?.name || r.class)}</div>
     <div class="conf"><span class="conf-bar"><span style="width:${conf === null ? 0 : Math.round(conf * 100)}%;background:${c?.color || '#888'}"></span></span> confidence ${conf === null ? '—' : fixed(conf, 2)}</div>
     <div class="muted">runner-up: ${r.runner_up ? escapeHtml(label(r.runner_up)) : '—'}</div></div></div>`;
+  const lbl = effectiveLabel(job);
+  const band = hasBand(glossary, lbl, r.band_speed_ratio);
   const error = r.features?.band_speed_error;
-  const speed = r.band_speed_ratio === null ? '—' : `${fixed(r.band_speed_ratio, 3)}${typeof error === 'number' ? ` ± ${fixed(error, 3)}` : ''}`;
-  const rows = [['<i>N</i><sub>r</sub> (reflections)', r.n_reflections ?? '—'], ['<i>c</i><sub>b</sub>/<i>V</i> (band speed)', speed]];
-  for (const [k, v] of Object.entries(r.features || {})) {
-    if (k === 'n_reflections' || k === 'band_speed_ratio') continue;
-    rows.push([`<code>${escapeHtml(k)}</code>`, featureHtml(v)]);
-  }
-  return html + table(rows);
+  const speed = band
+    ? `<span id="band-speed">${fixed(r.band_speed_ratio, 3)}${typeof error === 'number' ? ` ± ${fixed(error, 3)}` : ''}</span>`
+    : `<span class="muted" id="band-speed">no band ${lbl ? `(${escapeHtml(label(lbl))}${job.human_label ? ', a person\'s label' : ''})` : ''}</span>`;
+  html += table([['<i>N</i><sub>r</sub> (reflections)', r.n_reflections ?? '—'], ['<i>c</i><sub>b</sub>/<i>V</i> (band speed)', speed]]);
+  return html + (r.features ? featuresHtml(r.features, glossary, band, lbl, job.id) : '');
+}
+
+// The features by the glossary's groups: a heading and its line per group, a row per feature
+// with its name, value (± its error) and explanation. Without a band the band's speeds are left
+// out and the group says why.
+function featuresHtml(features, glossary, band, lbl, jobId) {
+  const groups = groupFeatures(glossary, features);
+  const body = groups.map(({ group, rows }) => {
+    const shown = rows.filter((x) => band || !x.entry?.band);
+    const hidden = rows.length - shown.length;
+    const note = hidden ? `<p class="muted feature-note" id="no-band-note" title="${escapeHtml(glossary.band_classes.text)}">No band in this run${lbl ? ` (${escapeHtml(label(lbl))})` : ''}: its ${hidden} front-speed reading${hidden === 1 ? ' is not a band speed' : 's are not band speeds'}, not shown (they are in the <a href="/api/v1/jobs/${escapeHtml(jobId)}">job JSON</a>).</p>` : '';
+    const items = shown.map(({ key, entry, value, error }) => {
+      const unit = entry?.unit ? ` <span class="unit">${escapeHtml(entry.unit)}</span>` : '';
+      const err = typeof error === 'number' ? ` ± ${sci(error, 3)}` : '';
+      return `<li data-feature="${escapeHtml(key)}"><div class="feature-head"><span class="feature-name">${escapeHtml(entry?.name || key)} <code>${escapeHtml(key)}</code></span><span class="feature-value">${featureHtml(value)}${err}${unit}</span></div>${entry ? `<div class="feature-text">${escapeHtml(entry.text)}</div>` : ''}</li>`;
+    }).join('');
+    return `<section class="feature-group" data-group="${escapeHtml(group.id)}"><h3>${escapeHtml(group.title)} <span class="muted">${escapeHtml(group.text)}</span></h3>${note}${items ? `<ul class="features">${items}</ul>` : ''}</section>`;
+  }).join('');
+  return `<details class="features-box" open><summary>Features <span class="muted">(what the classifier read of the run; docs/classifier.md)</span></summary>${body}</details>`;
 }
 
 // A feature's value: a number to 3 digits, an object of numbers (the scores) one key per line.
 function featureHtml(v) {
+  if (v === null || v === undefined) return '—';
+  if (typeof v === 'boolean') return v ? 'yes' : 'no';
+  if (typeof v === 'string') return escapeHtml(v || '—');
+  if (Array.isArray(v) && v.every((x) => typeof x === 'string')) return v.length ? escapeHtml(v.join(', ')) : 'none';
   if (typeof v === 'number') return sci(v, 3);
   if (v && typeof v === 'object' && !Array.isArray(v) && Object.values(v).every((x) => typeof x === 'number')) {
-    return Object.entries(v).map(([k, x]) => `${escapeHtml(k)}: ${sci(x, 2)}`).join('<br>');
+    return `<span class="scores">${Object.entries(v).map(([k, x]) => `<span><b>${escapeHtml(k)}</b> ${fixed(x, 2)}</span>`).join(' ')}</span>`;
   }
   return escapeHtml(JSON.stringify(v));
 }
 
 // A download link per artifact, the job's JSON and its sweep's export.
-function filesHtml(list, job, id) {
+function filesHtml(list, job, id, absent) {
   return list.length
     ? `<ul class="files">${list.map((a) => `<li><a href="${a.url}" download="run${id}_${escapeHtml(a.name)}">${escapeHtml(a.name)}</a><span class="muted">${bytes(a.size)}</span></li>`).join('')}</ul>
        <p class="hint">Also: <a href="/api/v1/jobs/${id}">job JSON</a>${job.sweeps?.length ? ` · sweep export <a href="${api.exportUrl(job.sweeps[0], 'csv')}">CSV</a>` : ''}</p>`
-    : '<p class="muted">This run has no files' + (job.state === 'failed' ? ' (it failed; see the events).' : '.') + '</p>';
+    : absent ? `<p class="muted absent">The files are ${absent}. Its <a href="/api/v1/jobs/${id}">job JSON</a> has the results and features.</p>`
+      : '<p class="muted">This run has no files' + (job.state === 'failed' ? ' (it failed; see the events).' : '.') + '</p>';
 }
 
 // How many ticks a strain axis of px pixels asks for: one per 60 px (a label such as "0.025"
@@ -369,26 +450,54 @@ function drawSpacetime(box, npy, summary, frames, id) {
   return vmax;
 }
 
-// The stress of the top and bottom plates over q_y against imposed strain, from frames.csv.
-function renderStress(box, frames, summary, id) {
-  if (!frames || !frames.columns.eps) { box.innerHTML = '<p class="muted">no frames.csv in this result</p>'; return; }
+// The stress of the top and bottom plates over q_y against imposed strain, from frames.csv. On a
+// log axis by default: the top plate's stress reaches thousands of q_y in an inertial run while
+// the plateau the paper discusses lies near 1-10 q_y, a flat line at the foot of a linear axis;
+// two buttons switch the axis (the log axis leaves out the frames at zero stress).
+function renderStress(page, summary) {
+  const box = page.el.stress;
+  const frames = page.frames;
+  if (!frames || !frames.columns.eps) {
+    box.innerHTML = '<p class="muted">no frames.csv in this result</p>';
+    return;
+  }
   const c = frames.columns;
   const eps = Array.from(c.eps);
   const top = Array.from(c.sigma_top_over_qy || []), bot = Array.from(c.sigma_bottom_over_qy || []);
+  const log = page.stressScale === 'log' && top.concat(bot).some((v) => v > 0);
   box.replaceChildren();
+  const tabs = document.createElement('div');
+  tabs.className = 'tabs stress-scale';
+  tabs.setAttribute('role', 'group');
+  tabs.setAttribute('aria-label', 'stress axis');
+  for (const [k, t] of [['log', 'log axis'], ['linear', 'linear axis']]) {
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.dataset.scale = k;
+    b.textContent = t;
+    b.className = (log ? 'log' : 'linear') === k ? 'on' : '';
+    b.setAttribute('aria-pressed', String((log ? 'log' : 'linear') === k));
+    b.addEventListener('click', () => { page.stressScale = k; renderStress(page, summary); });
+    tabs.append(b);
+  }
+  box.append(tabs);
   const width = Math.max(300, Math.min(620, box.clientWidth || 520));
-  const yd = linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
+  const yd = log ? logExtent(top.concat(bot), [0.1, 10], 1) : linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
   const plot = new Plot(box, {
-    width, height: 330, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
-    x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε', ticks: strainTicks(width - 86) },
-    y: { kind: 'linear', domain: yd, label: 'plate stress σ / q_{y}' },
+    width, height: 360, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
+    x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε = Vt / h_{0}', ticks: strainTicks(width - 86) },
+    y: { kind: log ? 'log' : 'linear', domain: yd, label: 'plate stress σ / q_{y}' },
   });
   plot.svg.id = 'stress-svg';
+  plot.svg.dataset.scale = log ? 'log' : 'linear';
   const clip = plot.clipRect();
   // The bottom plate dashed over the top one: where the two stresses agree both stay visible.
   plot.line([0, ...eps], [0, ...top], { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
   plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
-  const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${plot.m.l + plot.pw - 162}, ${plot.m.t + 14})` }, plot.front);
+  // The legend in the upper left on the log axis (the stresses rise from its foot at the left),
+  // the upper right on the linear one.
+  const lx = log ? plot.m.l + 12 : plot.m.l + plot.pw - 162;
+  const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${lx}, ${plot.m.t + 14})` }, plot.front);
   svgEl('rect', { x: -6, y: -10, width: 156, height: 44, class: 'legend-box' }, lg);
   [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].forEach(([k, t], i) => {
     svgEl('line', { x1: 0, x2: 20, y1: i * 18, y2: i * 18, class: `series ${k}` }, lg);
@@ -396,7 +505,7 @@ function renderStress(box, frames, summary, id) {
   });
   const cap = document.createElement('p');
   cap.className = 'caption';
-  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m. <a href="/api/v1/jobs/${id}/artifacts/frames.csv">frames.csv</a>`;
+  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m${log ? ', on a log axis (frames at zero stress left out)' : ''}. <a href="/api/v1/jobs/${page.id}/artifacts/frames.csv">frames.csv</a>`;
   box.append(cap);
 }
 
@@ -406,8 +515,7 @@ function renderStress(box, frames, summary, id) {
 async function renderSnapshot(box, list, summary, scale, id) {
   const pngs = list.filter((a) => /^snapshot_.*\.png$/.test(a.name));
   if (!pngs.length) {
-    const want = summary.params?.snapshot_eps?.join(', ') ?? '0.2';
-    box.innerHTML = `<p class="muted">No snapshot: the run ${summary.eps_reached !== undefined ? `ended at ε = ${fixed(summary.eps_reached, 3)}, ` : ''}before the requested ε = ${escapeHtml(want)}.</p>`;
+    box.innerHTML = `<p class="muted">${noSnapshotWhy(summary)}</p>`;
     return;
   }
   const epsOf = (n) => Number(n.replace(/^snapshot_|\.png$/g, ''));
@@ -446,6 +554,18 @@ async function renderSnapshot(box, list, summary, scale, id) {
     show(pngs[Number(b.dataset.i)]);
   }));
   await show(pngs[0]);
+}
+
+// Why a run has no snapshot, only what is true of it: it ended before the first requested
+// strain, or it asked for none; else only that there is none.
+function noSnapshotWhy(summary) {
+  const want = summary.params?.snapshot_eps;
+  const reached = summary.eps_reached;
+  if (Array.isArray(want) && !want.length) return 'No snapshot: the run asked for none.';
+  if (Array.isArray(want) && typeof reached === 'number' && reached < Math.min(...want)) {
+    return `No snapshot: the run ended at ε = ${fixed(reached, 3)}, before the requested ε = ${escapeHtml(want.join(', '))}.`;
+  }
+  return 'No snapshot in this result.';
 }
 
 // The particle spacing of a run [m]: grid spacing / particles per cell and direction.

@@ -415,11 +415,20 @@ function sweepRowHtml(s) {
   const of = ad ? `<span class="budget" data-budget="${ad.budget}">${c.total} of at most ${ad.budget} runs</span>` : `of ${c.total}`;
   const reps = rq.replicates ? `<div class="muted">× ${rq.replicates.n} replicates${rq.replicates.perturbation !== undefined ? `, perturbation ${rq.replicates.perturbation}` : ''}</div>` : '';
   return `<tr data-sweep="${s.id}" class="sw-${s.state}">
-    <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a><div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}${rq.numerics?.structure === 'random' ? ` · random structure, ${rq.numerics.seeds ? `${rq.numerics.seeds.length} seeds` : `seed ${rq.numerics.seed ?? 1}`}` : ''}</div></td>
+    <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a>${importedHtml(s.imported)}<div class="muted small">${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}${rq.numerics?.structure === 'random' ? ` · random structure, ${rq.numerics.seeds ? `${rq.numerics.seeds.length} seeds` : `seed ${rq.numerics.seed ?? 1}`}` : ''}</div></td>
     <td class="small">${grid}<div class="muted">φ = ${(s.phis || []).join(', ')}</div>${reps}</td>
     <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
     <td class="actions"><a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
       ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
+}
+
+// An imported sweep's mark: the server it came from and its sweep there (the sweep's
+// `imported`: docs/service.md, "Merging maps"); its runs' pages say more.
+function importedHtml(imp) {
+  if (!imp) return '';
+  const from = imp.source?.server ? ` from ${escapeHtml(imp.source.server)}` : '';
+  const there = imp.source_sweep ?? imp.sweep;
+  return ` <span class="badge imported" title="imported ${escapeHtml(when(imp.imported_at))}; computed by database ${escapeHtml(imp.database)}">imported${from}${there !== undefined && there !== null ? `, its sweep ${escapeHtml(there)}` : ''}</span>`;
 }
 
 function axisText(a) {
