@@ -47,10 +47,24 @@ function filterPairs(q, limits) {
 export function tableQuery(q, limits) {
   const s = new URLSearchParams(filterPairs(q, limits));
   if (q.sort) s.set('sort', q.sort);
-  s.set('limit', String(q.limit || limits.lists.default_limit));
+  if (q.limit) s.set('limit', q.limit); // else the server's default_limit
   if (q.cursor) s.set('cursor', q.cursor);
   s.set('format', 'table');
   return text(s);
+}
+
+// The table's request read straight from the hash's parameters, before GET /limits has come
+// (the first page is asked for at once, beside it); sameQuery tells whether the request the
+// page then makes is this one.
+export function earlyTableQuery(params) {
+  const s = new URLSearchParams();
+  for (const [k, v] of Object.entries(params)) if (v !== '' && k !== 'format' && k !== 'offset') s.set(ALIASES[k] || k, v);
+  s.set('format', 'table');
+  return text(s);
+}
+export function sameQuery(a, b) {
+  const norm = (t) => JSON.stringify([...new URLSearchParams(t)].sort(([x], [y]) => (x < y ? -1 : x > y ? 1 : 0)));
+  return norm(a) === norm(b);
 }
 
 export function csvQuery(q, limits) {

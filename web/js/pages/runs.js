@@ -10,7 +10,8 @@ import { CLASSES, inkOn } from '../classes.js';
 import { escapeHtml, fixed, sci } from '../format.js';
 import { parseHash } from '../router.js';
 import {
-  JOB_STATES, LETTERS, checkQuery, csvQuery, filterNames, mapHashOfQuery, pageHash, rangeNames, readQuery, tableQuery,
+  JOB_STATES, LETTERS, checkQuery, csvQuery, earlyTableQuery, filterNames, mapHashOfQuery, pageHash, rangeNames, readQuery, sameQuery,
+  tableQuery,
 } from '../runquery.js';
 
 // How each column is headed (HTML) and titled; a column not listed is headed by its name.
@@ -68,7 +69,7 @@ function errHtml(name) {
 }
 
 // The filter form: every filter of limits.jobs.parameters, grouped.
-function formHtml(limits, presets, sweeps) {
+function formHtml(limits, presets) {
   const names = filterNames(limits);
   const has = (n) => names.includes(n);
   const letters = (extra) => [...LETTERS.map((c) => [c, c, CLASSES[c].color]), ...extra];
@@ -81,8 +82,7 @@ function formHtml(limits, presets, sweeps) {
   if (has('human_label')) parts.push(`<div class="f rt-f" data-field="human_label"><label>Human label</label>${chipsHtml('human_label', letters([['any', 'any'], ['none', 'none']]))}${errHtml('human_label')}</div>`);
   if (has('state')) parts.push(`<div class="f rt-f" data-field="state"><label>State</label>${chipsHtml('state', JOB_STATES.map((s) => [s, s]))}${errHtml('state')}</div>`);
   if (has('sweep')) {
-    const opts = sweeps.map((s) => `<option value="${s.id}">${s.id} · ${escapeHtml(s.name || '')}</option>`).join('');
-    parts.push(field('sweep', 'Sweep', `<select id="rt-sweep" data-name="sweep"><option value="">all sweeps</option>${opts}</select>`));
+    parts.push(field('sweep', 'Sweep', '<select id="rt-sweep" data-name="sweep"><option value="">all sweeps</option></select>'));
   }
   if (has('preset')) parts.push(`<div class="f rt-f" data-field="preset"><label>Preset <span class="f-hint">(numerics)</span></label>${chipsHtml('preset', [...presets.map((p) => [p, p]), ['none', 'own numerics']])}${errHtml('preset')}</div>`);
   if (has('cells_per_unit')) {
@@ -132,6 +132,7 @@ function createPage(root, params) {
     root, params,
     limits: null, presets: [],
     query: null, // readQuery's {filters, sort, limit, cursor}
+    early: null, // the first page asked for before the limits came: {qs, answer (a promise)}
     stack: [], // cursors of the pages before this one ('' the first page)
     answer: null,
     seq: 0, // the newest request; older answers are dropped
@@ -221,9 +222,11 @@ async function load(page) {
   const qs = tableQuery(page.query, page.limits);
   const t0 = performance.now();
   page.el.table.classList.add('loading');
+  const early = page.early;
+  page.early = null;
   let answer;
   try {
-    answer = await api.jobs(qs);
+    answer = await (early && sameQuery(early.qs, qs) ? early.answer : api.jobs(qs));
   } catch (e) {
     if (!page.alive || seq !== page.seq) return;
     page.el.table.classList.remove('loading');
@@ -329,13 +332,27 @@ function wire(page) {
   });
 }
 
+// The sweeps of the sweep list, when they come (the table does not wait for them).
+function fillSweeps(page, sweeps) {
+  const select = page.el.form.querySelector('#rt-sweep');
+  if (!select) return;
+  const keep = select.value;
+  select.replaceChildren(new Option('all sweeps', ''), ...sweeps.map((s) => new Option(`${s.id} · ${s.name || ''}`, String(s.id))));
+  if (keep && ![...select.options].some((o) => o.value === keep)) select.append(new Option(keep, keep));
+  select.value = keep;
+}
+
 async function start(page) {
   const { root } = page;
-  let limits, presets, sweeps;
+  // The first page is asked for at once, beside the limits (load takes it when its query is
+  // the one the limits make); the sweeps' names fill their list when they come.
+  const qs = earlyTableQuery(page.params);
+  page.early = { qs, answer: api.jobs(qs) };
+  page.early.answer.catch(() => {}); // a refusal is shown when load takes it
+  const sweeps = api.sweeps().catch(() => ({ sweeps: [] }));
+  let limits, presets;
   try {
-    [limits, presets, sweeps] = await Promise.all([
-      api.limits(), api.presets(), api.sweeps().catch(() => ({ sweeps: [] })),
-    ]);
+    [limits, presets] = await Promise.all([api.limits(), api.presets()]);
   } catch (e) {
     if (page.alive) page.el.form.innerHTML = `<p class="error">Could not load the table's limits: ${escapeHtml(e.message)}</p>`;
     return;
@@ -345,7 +362,7 @@ async function start(page) {
   if (window.matchMedia('(max-width: 640px)').matches) root.querySelector('#rt-details').open = false;
   page.limits = limits;
   page.presets = presets.presets.map((p) => p.name);
-  page.el.form.innerHTML = formHtml(limits, page.presets, sweeps.sweeps || []);
+  page.el.form.innerHTML = formHtml(limits, page.presets);
   page.query = readQuery(page.params, limits);
   // The stack of a reload (history.state), if it belongs to this cursor.
   const kept = history.state?.runsStack;
@@ -355,6 +372,7 @@ async function start(page) {
   page.el.limit.value = String(Number(page.query.limit) || limits.lists.default_limit);
   wire(page);
   apply(page);
+  sweeps.then((s) => { if (page.alive) fillSweeps(page, s.sweeps || []); });
   if (page.query.unknown.length) page.el.error.textContent = `ignored: ${page.query.unknown.join(', ')} (not a parameter of the table)`;
 }
 
