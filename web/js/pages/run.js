@@ -5,7 +5,7 @@ import { api, fetchArtifact } from '../api.js';
 import { majorityCount, notRobustWhy, probabilitiesHtml, runStateText, spreadText } from '../points.js';
 import { showRelabel } from '../relabel.js';
 import { CLASSES, category, inkOn, label, look } from '../classes.js';
-import { Plot, colormap, colorBar, linearExtent, logExtent, svgEl } from '../plot.js';
+import { Plot, colormap, colorBar, linearExtent, logExtent } from '../plot.js';
 import { effectiveLabel, groupFeatures, hasBand, loadGlossary } from '../glossary.js';
 import { parseNpy } from '../npy.js';
 import { parseMovie } from '../movie.js';
@@ -454,6 +454,11 @@ function drawSpacetime(box, npy, summary, frames, id) {
 // log axis by default: the top plate's stress reaches thousands of q_y in an inertial run while
 // the plateau the paper discusses lies near 1-10 q_y, a flat line at the foot of a linear axis;
 // two buttons switch the axis (the log axis leaves out the frames at zero stress).
+// The foot of the log axis [q_y]: a plate reached by the elastic precursor's first ripples only
+// carries stresses down to 1e-150 q_y (round-off), which would stretch the axis over 150 decades;
+// what a reader needs starts well below first yield (~0.2 q_y for buckling struts).
+const STRESS_LOG_FLOOR = 1e-3;
+
 function renderStress(page, summary) {
   const box = page.el.stress;
   const frames = page.frames;
@@ -464,7 +469,7 @@ function renderStress(page, summary) {
   const c = frames.columns;
   const eps = Array.from(c.eps);
   const top = Array.from(c.sigma_top_over_qy || []), bot = Array.from(c.sigma_bottom_over_qy || []);
-  const log = page.stressScale === 'log' && top.concat(bot).some((v) => v > 0);
+  const log = page.stressScale === 'log' && top.concat(bot).some((v) => v >= STRESS_LOG_FLOOR);
   box.replaceChildren();
   const tabs = document.createElement('div');
   tabs.className = 'tabs stress-scale';
@@ -482,7 +487,7 @@ function renderStress(page, summary) {
   }
   box.append(tabs);
   const width = Math.max(300, Math.min(620, box.clientWidth || 520));
-  const yd = log ? logExtent(top.concat(bot), [0.1, 10], 1) : linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
+  const yd = log ? logExtent(top.concat(bot).filter((v) => v >= STRESS_LOG_FLOOR), [0.1, 10], 1) : linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
   const plot = new Plot(box, {
     width, height: 360, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
     x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε = Vt / h_{0}', ticks: strainTicks(width - 86) },
@@ -492,20 +497,18 @@ function renderStress(page, summary) {
   plot.svg.dataset.scale = log ? 'log' : 'linear';
   const clip = plot.clipRect();
   // The bottom plate dashed over the top one: where the two stresses agree both stay visible.
-  plot.line([0, ...eps], [0, ...top], { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
-  plot.line([0, ...eps], [0, ...bot], { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
-  // The legend in the upper left on the log axis (the stresses rise from its foot at the left),
-  // the upper right on the linear one.
-  const lx = log ? plot.m.l + 12 : plot.m.l + plot.pw - 162;
-  const lg = svgEl('g', { class: 'inline-legend', transform: `translate(${lx}, ${plot.m.t + 14})` }, plot.front);
-  svgEl('rect', { x: -6, y: -10, width: 156, height: 44, class: 'legend-box' }, lg);
-  [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].forEach(([k, t], i) => {
-    svgEl('line', { x1: 0, x2: 20, y1: i * 18, y2: i * 18, class: `series ${k}` }, lg);
-    svgEl('text', { x: 26, y: i * 18 + 4, class: 'legend-text' }, lg).textContent = t;
-  });
+  const shown = (v) => (log && !(v >= STRESS_LOG_FLOOR) ? NaN : v); // below the floor: a gap
+  plot.line([0, ...eps], [0, ...top].map(shown), { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
+  plot.line([0, ...eps], [0, ...bot].map(shown), { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
+  // The legend under the axes: inside them it hid a curve on one axis or the other.
+  const lg = document.createElement('div');
+  lg.className = 'stress-legend';
+  lg.innerHTML = [['top', 'top plate (moving)'], ['bottom', 'bottom plate (fixed)']].map(([k, t]) =>
+    `<span><svg width="24" height="10" aria-hidden="true"><line x1="0" x2="24" y1="5" y2="5" class="series ${k}"></line></svg>${t}</span>`).join('');
+  box.append(lg);
   const cap = document.createElement('p');
   cap.className = 'caption';
-  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m${log ? ', on a log axis (frames at zero stress left out)' : ''}. <a href="/api/v1/jobs/${page.id}/artifacts/frames.csv">frames.csv</a>`;
+  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m${log ? ', on a log axis (from 10<sup>−3</sup> <i>q</i><sub>y</sub>: frames below it, at zero stress or in round-off, are left out)' : ''}. <a href="/api/v1/jobs/${page.id}/artifacts/frames.csv">frames.csv</a>`;
   box.append(cap);
 }
 
