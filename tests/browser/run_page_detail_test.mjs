@@ -167,6 +167,7 @@ test('the run page: stress plateau, band speeds, grouped features, no token fiel
     const mark = page.locator(`tr[data-sweep="${imported.id}"] .badge.imported`);
     await mark.waitFor();
     assert.match(await mark.innerText(), new RegExp(`imported from ${file.source.server.replace(/\./g, '\\.')}`));
+    assert.match(await page.locator(`tr[data-sweep="${imported.id}"] .muted.small`).first().innerText(), /^imported /, 'its date is the import\'s');
     assert.equal(await page.locator(`tr[data-sweep="${created.json.id}"] .badge.imported`).count(), 0);
     await shot(page, 'run-detail-sweeps-1440');
 
