@@ -206,9 +206,15 @@ function apply(page) {
   if (problems.length) {
     page.el.table.classList.add('stale');
     page.el.count.textContent = 'fix the marked filter';
+    disablePager(page); // the rows shown are of the query before
     return;
   }
   load(page);
+}
+
+function disablePager(page) {
+  const { el } = page;
+  el.first.disabled = el.prev.disabled = el.next.disabled = true;
 }
 
 function updateLinks(page) {
@@ -232,6 +238,7 @@ async function load(page) {
     page.el.table.classList.remove('loading');
     page.el.table.classList.add('stale');
     page.el.count.textContent = 'not loaded';
+    disablePager(page);
     showErrors(page, [{ field: e instanceof ApiError ? e.field : '', message: e.message }]);
     publish(page, { query: qs, error: { field: e.field || '', message: e.message } });
     return;
