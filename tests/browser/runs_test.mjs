@@ -1,12 +1,12 @@
 // The Runs page (#/runs, web/js/pages/runs.js) in real headless Chromium against a real
 // compaction-server holding 226 runs: the committed export studies/phase_map/results/sweep-2.export.json
 // (200 imported runs, 9 human labels) and the labelled map of lib/mapfill.mjs (26 runs computed
-// "here" through the worker API, 5 and 6 cells per unit cell). Checked against direct
-// requests of GET /api/v1/jobs: the rows and count of each filter, the sort both ways, paging by
-// the cursor forward and back (no duplicate, no gap), the CSV link's query, the page's checks and
-// the server's 422 at its field, the URL state across a reload, the links map -> table -> map and
-// a pinned point's link to its runs (three replicates added at phi 0.5), and the width at 390 x 844.
-// Screenshots go to $BROWSER_ARTIFACTS_DIR.
+// "here" through the worker API, 5 and 6 cells per unit cell). Checked against direct requests
+// of GET /api/v1/jobs: the rows and count of each filter, the sort both ways, Back and Forward
+// through the changes, paging by the cursor forward and back (no duplicate, no gap), the CSV
+// link's query, the page's checks and the server's 422 at its field, the URL state across a
+// reload, the links map -> table -> map and a pinned point's link to its runs (three replicates
+// added at phi 0.5), and the width at 390 x 844. Screenshots go to $BROWSER_ARTIFACTS_DIR.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
@@ -118,6 +118,18 @@ test('the Runs page: filters, sort, cursor pages, count, CSV, URL state, map lin
       const c = want.rows.map((x) => x.confidence);
       assert.ok(c.every((v, i) => i === 0 || (sort === 'confidence' ? c[i - 1] <= v : c[i - 1] >= v)), `${sort} is monotonic`);
     }
+
+    // Each change is an entry of the browser's history: Back shows the rows before, Forward again.
+    await mark(page);
+    await page.goBack();
+    await answered(page, 'back to ascending');
+    assert.equal((await hashParams(page)).sort, 'confidence');
+    assert.deepEqual(await shownIds(page), (await jobs('class=c&confidence_max=0.8&sort=confidence&format=table')).rows.map((x) => x.id));
+    await mark(page);
+    await page.goForward();
+    await answered(page, 'forward to descending');
+    assert.deepEqual(await hashParams(page), { class: 'c', confidence_max: '0.8', sort: '-confidence' });
+    assert.deepEqual(await shownIds(page), want.rows.map((x) => x.id));
 
     // The CSV link: the table's query (filters and sort) as CSV, and it downloads every row of
     // the filtered set in the table's order.

@@ -4,7 +4,7 @@
 // reload or a shared link shows the same rows; the CSV link downloads the whole filtered set in
 // the same order. Which columns, sort keys and parameters there are comes from GET /limits.
 // The cursors of the pages before the one shown are a stack kept in history.state (a reload
-// keeps it); "previous" pops it.
+// keeps it); "previous" pops it. Each change is an entry of the browser's history.
 import { api, ApiError } from '../api.js';
 import { CLASSES, inkOn } from '../classes.js';
 import { escapeHtml, fixed, sci } from '../format.js';
@@ -191,17 +191,23 @@ function showErrors(page, problems) {
   }
 }
 
-// The page's URL: the query, and the cursor stack in history.state (a reload keeps both).
-function syncUrl(page) {
-  history.replaceState({ runsStack: page.stack }, '', pageHash(page.query, page.limits));
+// The page's URL: the query, and the cursor stack in history.state (a reload keeps both). A
+// person's change is a new entry of the history (Back shows the rows before: the router mounts
+// the page again from that URL and its state); the first URL is only written in its own form.
+function syncUrl(page, push) {
+  const hash = pageHash(page.query, page.limits);
+  const state = { runsStack: page.stack };
+  if (push && hash !== location.hash) history.pushState(state, '', hash);
+  else history.replaceState(state, '', hash);
 }
 
-// Applies a query: checks it, writes the URL, asks the server for its page.
-function apply(page) {
+// Applies a query: checks it, writes the URL (push: as a new history entry), asks the server
+// for its page.
+function apply(page, push = true) {
   const problems = checkQuery(page.query, page.limits, page.presets);
   showErrors(page, problems);
   fillForm(page);
-  syncUrl(page);
+  syncUrl(page, push);
   updateLinks(page);
   if (problems.length) {
     page.el.table.classList.add('stale');
@@ -381,7 +387,7 @@ async function start(page) {
   page.el.limit.innerHTML = sizes.map((n) => `<option value="${n}">${n} a page</option>`).join('');
   page.el.limit.value = String(Number(page.query.limit) || limits.lists.default_limit);
   wire(page);
-  apply(page);
+  apply(page, false);
   sweeps.then((s) => { if (page.alive) fillSweeps(page, s.sweeps || []); });
   if (page.query.unknown.length) page.el.error.textContent = `ignored: ${page.query.unknown.join(', ')} (not a parameter of the table)`;
 }
