@@ -91,6 +91,13 @@ double thinnest_strut(const SceneParams& p) {
 }
 }  // namespace
 
+int regular_void_side(const SceneParams& p, int per_unit) {
+  // With an odd count the hole sits half a particle off centre, the same in every cell: a
+  // translation of the whole structure.
+  const double spacing = p.unit_cell() / per_unit;
+  return std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0, per_unit - 1);
+}
+
 double thinnest_strut_cells(const SceneParams& p) {
   return thinnest_strut(p) / p.grid_spacing();
 }

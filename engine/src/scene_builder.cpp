@@ -108,12 +108,12 @@ Setup make_setup(const SceneParams& p) {
 Particles place_particles(const SceneParams& p, const Grid& g, Setup& su) {
   const int per_unit = p.grid_cells_per_unit() * p.particles_per_cell;  // particles per unit cell side
   const double spacing = g.dx / p.particles_per_cell;
-  const VoidLayout voids = void_layout(p, per_unit, spacing);
+  const VoidLayout voids = void_layout(p, per_unit);
   const int strut_cols = p.geometry == Geometry::pseudo1d ? 1 : p.cols() + 1;
   su.n_struts = strut_cols * p.n_rows;
   // The regular structure's strut (a random one's struts differ from it; the deflection
   // diagnostic normalises by this nominal value).
-  su.strut_thickness = (per_unit - regular_void_side(p, per_unit, spacing)) * spacing;
+  su.strut_thickness = (per_unit - regular_void_side(p, per_unit)) * spacing;
 
   Particles P;
   P.vol0 = spacing * spacing;

@@ -43,8 +43,7 @@ Setup3D make_setup(const SceneParams& p, const Grid3D& g, double vol0) {
 Particles3D place_particles(const SceneParams& p, const Grid3D& g) {
   const int per_unit = g.cells_across * p.particles_per_cell;  // particles per unit cell side
   const double spacing = g.dx / p.particles_per_cell;
-  const int side =
-      std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0, per_unit - 1);
+  const int side = regular_void_side(p, per_unit);
   const int first = (per_unit - side) / 2, last = first + side;  // hole: [first, last)
   auto in_hole = [&](int l) { return l >= first && l < last; };
 

@@ -14,8 +14,8 @@ namespace {
 // repeat the particle perturbation's, which starts from the seed itself.
 constexpr std::uint64_t kStructureStream = 0x7374727563747572ULL;  // "structur"
 
-VoidLayout regular_voids(const SceneParams& p, int per_unit, double spacing, VoidLayout out) {
-  const int side = regular_void_side(p, per_unit, spacing);
+VoidLayout regular_voids(const SceneParams& p, int per_unit, VoidLayout out) {
+  const int side = regular_void_side(p, per_unit);
   const int first = (per_unit - side) / 2;
   out.voids.assign(out.voids.size(), Void{first, first + side, first, first + side});
   return out;
@@ -51,22 +51,14 @@ VoidLayout random_voids(const SceneParams& p, int per_unit, VoidLayout out) {
 
 }  // namespace
 
-int regular_void_side(const SceneParams& p, int per_unit, double spacing) {
-  // The particle count nearest the side L sqrt(1 - phi), so that the particles represent phi
-  // as closely as the lattice allows (centring it on the cell instead would force an even
-  // count and could miss phi by 10 %). With an odd count the hole sits half a particle off
-  // centre, the same in every cell: a translation of the whole structure.
-  return std::clamp(static_cast<int>(std::lround(p.hole_side() / spacing)), 0, per_unit - 1);
-}
-
-VoidLayout void_layout(const SceneParams& p, int per_unit, double spacing) {
+VoidLayout void_layout(const SceneParams& p, int per_unit) {
   VoidLayout out;
   out.cols = p.cols();
   out.rows = p.n_rows;
   out.voids.assign(static_cast<std::size_t>(out.cols) * out.rows, Void{});
   if (p.phi >= kSolidColumnPhi) return out;  // the solid column: no voids
   return p.structure == Structure::random ? random_voids(p, per_unit, std::move(out))
-                                          : regular_voids(p, per_unit, spacing, std::move(out));
+                                          : regular_voids(p, per_unit, std::move(out));
 }
 
 }  // namespace compaction

@@ -21,14 +21,11 @@ struct VoidLayout {
   const Void& at(int cx, int cy) const { return voids[static_cast<std::size_t>(cy) * cols + cx]; }
 };
 
-// The voids of scene `p` with `per_unit` particles of `spacing` along a unit cell's side.
+// The voids of scene `p` with `per_unit` particles along a unit cell's side.
 // Regular: the side is the particle count nearest L sqrt(1 - phi), starting at
 // (per_unit - side) / 2 in every cell. Random: areas in antithetic pairs dealt in a seeded order, sides rounded to the
 // lattice, each void placed uniformly among the lattice positions that keep
 // round(kMinStrut * regular strut / 2) particles (at least one) to its cell's edges.
-VoidLayout void_layout(const SceneParams& p, int per_unit, double spacing);
-
-// The side of the regular structure's void, in particles.
-int regular_void_side(const SceneParams& p, int per_unit, double spacing);
+VoidLayout void_layout(const SceneParams& p, int per_unit);
 
 }  // namespace compaction

@@ -370,40 +370,44 @@ class Client:
         return _frame(rows, columns or ["job_id", "S", "R", "phi", "state", *RESULT_COLUMNS],
                       frame, "results()")
 
-    def phase_map(self, phi, sweep=None, frame=True):
+    def phase_map(self, phi, sweep=None, frame=True, geometry=None):
         """The runs of the phase map at one phi (of every sweep, or of one): a row per job with
         S, R, state, class, confidence, runner_up, n_reflections, band_speed_ratio, job_id,
         point_id, status, ... A pandas DataFrame (ImportError without pandas); frame=False
-        gives a list of dicts. points() reads a point's replicates together."""
-        query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep)}
+        gives a list of dicts. points() reads a point's replicates together. geometry: the
+        runs of "pseudo1d" (the server's default), "full2d" or "pseudo1d_3d"."""
+        query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep),
+                 "geometry": geometry}
         points = self._json("GET", "/phase-map", query=query)["points"]
         columns = list(points[0]) if points else ["S", "R", "phi", "state", "class", "job_id"]
         return _frame(points, columns, frame, "phase_map()")
 
-    def points(self, phi=None, sweep=None, frame=True):
+    def points(self, phi=None, sweep=None, frame=True, geometry=None):
         """The map's points: a row per point (a computation up to its seed: its replicates
         read together, docs/replicates.md) with point_id, S, R, phi, cells_per_unit, runs,
         finished, labelled, label (the majority), share, robust, p_a .. p_f (each class's
         share) and each band-speed reading as <name>_mean, <name>_sd, <name>_n. At one phi (of
         every sweep, or of one), or of one sweep at every phi (phi=None). A pandas DataFrame
-        (ImportError without pandas); frame=False gives a list of dicts."""
+        (ImportError without pandas); frame=False gives a list of dicts. geometry as in
+        phase_map() (a sweep's export holds every geometry of the sweep)."""
         if phi is None:
             if sweep is None:
                 raise ValueError("points(): give phi, sweep or both")
             summaries = self._json("GET", "/sweeps/%d/export" % _id(sweep),
                                    query={"format": "json"})["points"]
         else:
-            query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep)}
+            query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep),
+                     "geometry": geometry}
             summaries = self._json("GET", "/phase-map", query=query)["summaries"]
         rows = [_point_row(p) for p in summaries]
         return _frame(rows, POINT_COLUMNS, frame, "points()")
 
-    def regions(self, phi, sweep=None, cells_per_unit=None, grid=None):
+    def regions(self, phi, sweep=None, cells_per_unit=None, grid=None, geometry=None):
         """The classes the labelled runs predict over the map at phi, with an uncertainty per
         cell (GET /phase-map/regions): {"grid", "runs", "S": {log_min, log_max}, "R": {...},
         "classes": [one string of class letters per row of R, '.' none], "uncertainty"}."""
         query = {"phi": repr(float(phi)), "sweep": None if sweep is None else _id(sweep),
-                 "cells_per_unit": cells_per_unit, "grid": grid}
+                 "cells_per_unit": cells_per_unit, "grid": grid, "geometry": geometry}
         return self._json("GET", "/phase-map/regions", query=query)
 
     # --- jobs and their results ---

@@ -1,11 +1,17 @@
 #include "plan/cost_model.hpp"
 
+#include <cmath>
+
 namespace compaction::server::cost {
 
 double particles(const SceneParams& p) {
-  const double cells = static_cast<double>(p.grid_cells_per_unit());
-  const double ppc = static_cast<double>(p.particles_per_cell);
-  return p.phi * p.n_rows * p.cols() * cells * cells * ppc * ppc;
+  const int per_unit = p.grid_cells_per_unit() * p.particles_per_cell;
+  const int dims = p.geometry == Geometry::pseudo1d_3d ? 3 : 2;
+  const double lattice = std::pow(static_cast<double>(per_unit), dims);
+  const double unit_cells = static_cast<double>(p.n_rows) * p.cols();
+  if (p.structure == Structure::random || p.phi >= kSolidColumnPhi) return p.phi * unit_cells * lattice;
+  // A regular structure: the lattice less its hole, as the scene builders place them.
+  return unit_cells * (lattice - std::pow(static_cast<double>(regular_void_side(p, per_unit)), dims));
 }
 
 double steps(const SceneParams& p) {
@@ -20,6 +26,7 @@ double cpu_seconds(const SceneParams& p) {
   if (p.gradient == Gradient::bspline) ns *= kBsplineFactor;
   if (resolved_pore_contact(p) == PoreContact::split_fields) ns *= kSplitFieldsFactor;
   if (p.geometry == Geometry::full2d) ns *= kFull2dFactor;
+  if (p.geometry == Geometry::pseudo1d_3d) ns *= k3dFactor;
   return particles(p) * steps(p) * ns * 1e-9;
 }
 

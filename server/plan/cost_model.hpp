@@ -27,9 +27,15 @@ inline constexpr double kBsplineFactor = 1.30;
 inline constexpr double kSplitFieldsFactor = 1.76;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; studies/savings/README.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
+// The 3D column (pseudo1d_3d, one thread): 227.5 ns per particle-step against the reference
+// scene's 19.3 in the same run of engine_bench (bench/results/engine_bench.md, 2026-12-05,
+// engine 0.2.2, the AVX-512 copy; G2P with the 3D return mapping is 181.6 ns of it).
+inline constexpr double k3dFactor = 11.76;
 
-// Particles: the solid share phi of the specimen's grid cells, particles_per_cell^2 in each
-// (21 760 for the pseudo-1D column at 20 cells per unit cell and phi = 0.4; 21 726 measured).
+// Particles: a regular structure's lattice less its holes, as the scene builders place them
+// (21 726 for the pseudo-1D column at 20 cells per unit cell and phi = 0.4; 64 566 for the 3D
+// column at 8 cells per unit cell and 2 x 2 x 2 particles per cell, where the hole of 13 of 16
+// particles leaves a solid share of 0.46), phi times the lattice for a random one.
 double particles(const SceneParams& p);
 // Time steps to eps_final at the CFL step dt = cfl dx / (c_P + V), the plate speed standing
 // for the fastest particle: eps h0 (c_P + V) / (V cfl dx) (237 946 for example (a) at 20 cells

@@ -28,7 +28,7 @@ const std::set<std::string> numerics_keys = {
     "preset", "cells_per_strut", "cells_per_unit", "particles_per_cell", "cfl", "transfer",
     "movie_d_eps",
     "flip_ratio", "eps_end", "d_eps", "snapshot_eps", "contact", "pore_contact", "perturbation", "seed",
-    "structure", "seeds"};
+    "structure", "seeds", "geometry"};
 
 // Numerics keys a level of an adaptive sweep may set: what sets the resolution and the transfer.
 const std::set<std::string> level_keys = {"preset", "cells_per_strut", "cells_per_unit",

@@ -10,9 +10,11 @@
 #include <spdlog/spdlog.h>
 
 #include "compaction/params.hpp"
+#include "compaction/params_json.hpp"
 #include "exchange/result_intake.hpp"
 #include "http/endpoints.hpp"
 #include "http/http_util.hpp"
+#include "input/safe_text.hpp"
 #include "plan/counted_label.hpp"
 #include "plan/phase_regions.hpp"
 #include "routes/run_query.hpp"
@@ -28,10 +30,12 @@ namespace {
 // Rows of the CSV written at a time (about 100 kB).
 constexpr int kCsvChunkRows = 500;
 
-// The filters of /phase-map and /phase-map/regions: phi (required), one sweep, one grid.
+// The filters of /phase-map and /phase-map/regions: phi (required), one sweep, one grid, one
+// geometry (the 2D pseudo-1D column unless named).
 struct MapQuery {
   double phi = 0;
   std::optional<std::int64_t> sweep, cells_per_unit;
+  std::string geometry = to_string(Geometry::pseudo1d);
 };
 
 MapQuery map_query(const httplib::Request& req) {
@@ -43,6 +47,16 @@ MapQuery map_query(const httplib::Request& req) {
   if (req.has_param("cells_per_unit")) {
     q.cells_per_unit = query_int(req, "cells_per_unit", 0, static_cast<int>(limits::cells_per_unit.lo),
                                  static_cast<int>(limits::cells_per_unit.hi));
+  }
+  if (req.has_param("geometry")) {
+    // Read as a scene's key, so the engine's one list of geometries decides.
+    SceneParams scene;
+    const std::string given = req.get_param_value("geometry");
+    if (!read_json(json{{"geometry", given}}, scene).empty()) {
+      throw ApiError(422, "geometry", "must be pseudo1d, full2d or pseudo1d_3d, got " +
+                                          describe(json(valid_utf8(given))));
+    }
+    q.geometry = to_string(scene.geometry);
   }
   return q;
 }
@@ -173,7 +187,7 @@ void register_job_routes(httplib::Server& server, App& app) {
                const MapQuery q = map_query(req);
                app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
                  return views::phase_map(
-                     q.phi, app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit));
+                     q.phi, app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit, q.geometry));
                });
              });
 
@@ -188,7 +202,7 @@ void register_job_routes(httplib::Server& server, App& app) {
                app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
                  return json_text(views::phase_regions(
                      q.phi, q.sweep, q.cells_per_unit,
-                     predicted_regions(app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit),
+                     predicted_regions(app.store.reads.phase_map(q.phi, q.sweep, q.cells_per_unit, q.geometry),
                                        grid)));
                });
              });

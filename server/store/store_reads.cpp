@@ -260,20 +260,21 @@ PhaseMapPoint read_map_point(sqlite::Statement& s) {
 }  // namespace
 
 std::vector<PhaseMapPoint> StoreReads::phase_map(double phi, std::optional<std::int64_t> sweep_id,
-                                                 std::optional<std::int64_t> cells_per_unit) {
+                                                 std::optional<std::int64_t> cells_per_unit,
+                                                 const std::string& geometry) {
   auto db = db_.readers.take();
   sqlite::ReadTransaction read(*db);
   auto s = db->prepare(
       std::string(map_columns) +
-      // The covering indexes of migrations 0008, 0009 and 0011; named, as SQLite would otherwise
+      // The covering indexes of migrations 0008, 0009, 0011 and 0013; named, as SQLite would otherwise
       // read each result by its row (rowid) and so its whole summary.
       " FROM jobs j INDEXED BY jobs_map"
       " LEFT JOIN results r INDEXED BY results_map ON r.job_id = j.id"
       " LEFT JOIN human_labels h ON h.job_id = j.id"
       " WHERE j.phi BETWEEN ?1 - 1e-9 AND ?1 + 1e-9"
       " AND (?2 IS NULL OR j.id IN (SELECT job_id FROM sweep_jobs WHERE sweep_id = ?2))"
-      " AND (?3 IS NULL OR j.cells_per_unit = ?3)");
-  s.bind(1, phi).bind(2, sweep_id).bind(3, cells_per_unit);
+      " AND (?3 IS NULL OR j.cells_per_unit = ?3) AND j.geometry = ?4");
+  s.bind(1, phi).bind(2, sweep_id).bind(3, cells_per_unit).bind(4, geometry);
   std::vector<PhaseMapPoint> points;
   while (s.step()) points.push_back(read_map_point(s));
   // jobs_map yields the rows by (phi, S, R, id), which is (S, R, id) whenever the jobs within the

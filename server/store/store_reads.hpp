@@ -157,9 +157,11 @@ class StoreReads {
   // The run table's page (run_table.hpp) as the jobs' full records, in one read transaction.
   RunPage<JobRecord> jobs(const RunQuery& q);
   std::optional<JobDetail> job(std::int64_t id);
-  // The runs at phi (within 1e-9), of one sweep and one grid (cells per unit cell) when given.
+  // The runs at phi (within 1e-9) of one geometry (to_string(Geometry): the scene's), of one
+  // sweep and one grid (cells per unit cell) when given.
   std::vector<PhaseMapPoint> phase_map(double phi, std::optional<std::int64_t> sweep_id,
-                                       std::optional<std::int64_t> cells_per_unit = std::nullopt);
+                                       std::optional<std::int64_t> cells_per_unit = std::nullopt,
+                                       const std::string& geometry = "pseudo1d");
   // The map's reading of every job of a sweep, in the sweep's order (its export's points).
   std::vector<PhaseMapPoint> sweep_map(std::int64_t sweep_id);
   std::optional<std::vector<ArtifactInfo>> artifacts(std::int64_t job_id);

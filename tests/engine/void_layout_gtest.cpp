@@ -22,7 +22,7 @@ SceneParams random_scene(Geometry g, std::uint64_t seed) {
 constexpr int kPerUnit = 40;  // 20 cells per unit cell, 2 particles per cell
 
 VoidLayout layout(const SceneParams& p) {
-  return void_layout(p, kPerUnit, p.unit_cell() / kPerUnit);
+  return void_layout(p, kPerUnit);
 }
 
 // The lattice margin the layout keeps to each cell edge: round(0.5 x 0.5 x 0.2254 x 40) = 2

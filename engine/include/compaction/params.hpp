@@ -213,6 +213,13 @@ double cfl_time_step(double cfl, double dx, double p_wave_speed, double fastest_
 // its geometry these defaults for the keys it leaves out.
 SceneParams scene_defaults(Geometry g);
 
+// The side of a regular structure's hole in particles, on a lattice of per_unit particles along
+// a unit cell's side (spacing L / per_unit): the count nearest hole_side(), at most per_unit - 1,
+// so that the particles represent phi as closely as the lattice allows (centring the hole
+// instead would force an even count and could miss phi by 10 %). The scene builders (2D and 3D)
+// and the cost model's particle count read it.
+int regular_void_side(const SceneParams& p, int per_unit);
+
 // Grid cells across the thinnest strut of the scene (a random structure's thinnest one).
 double thinnest_strut_cells(const SceneParams& p);
 // The pore contact a scene runs with: single_field or split_fields (auto resolved).
