@@ -13,6 +13,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { Harness, REPO, artifactsDir, canvasBox, waitFor } from './lib/harness.mjs';
+import { completeAll } from './lib/labelled.mjs';
 
 const PHI = 0.4;
 const EXPORTS = ['sweep-2', 'example-c', 'example-c-reference'].map((n) => join(REPO, 'studies', 'phase_map', 'results', `${n}.export.json`));
@@ -222,6 +223,51 @@ test('the phase map zooms and pans, keeps its view in the URL and shows the fine
     await page.mouse.click(cbox.x + mark.x, cbox.y + mark.y);
     await waitFor(async () => hash(page) === `#/run/${mark.job_id}`, { what: `the run page of ${mark.job_id} after a click` });
 
+    assert.deepEqual(h.pageErrors, [], 'no errors in the page');
+  } catch (e) {
+    for (const [k, v] of Object.entries(h.logs)) if (v) console.log(`# ${k} log tail:\n${v.slice(-3000)}`);
+    throw e;
+  } finally {
+    await h.close();
+  }
+});
+
+// The column: the 2D map by default, the 3D one when chosen (the server draws one geometry at a
+// time), in the URL across a reload. A 2D and a 3D run at one place, labelled through the worker
+// API: each map shows its own, with its own class.
+test('the phase map draws one geometry at a time and the column choice picks it', { timeout: 120000 }, async () => {
+  const h = new Harness('map-geometry');
+  try {
+    await h.startServer();
+    const point = { S: 1e-2, R: 1e-3, phi: PHI };
+    const ids = [];
+    for (const [name, geometry] of [['2d', undefined], ['3d', 'pseudo1d_3d']]) {
+      const r = await h.api('/sweeps', { name, points: [point], numerics: { cells_per_unit: 8, eps_end: 0.01, ...(geometry ? { geometry } : {}) } });
+      assert.equal(r.status, 201, JSON.stringify(r.json));
+      ids.push((await h.api(`/jobs?sweep=${r.json.id}`)).json.jobs[0].id);
+    }
+    const [id2, id3] = ids;
+    const byGeometry = (scene) => ({ class: scene.geometry === 'pseudo1d_3d' ? 'b' : 'a', confidence: 0.9, runner_up: 'c', n_reflections: 1, band_speed_ratio: 2 });
+    assert.equal(await completeAll(h.url, byGeometry), 2);
+
+    const page = await h.browser({ width: 1440, height: 900 });
+    await page.goto(`${h.url}/#/map?phi=${PHI}&regions=0`);
+    const shown = (ids) => waitFor(async () => {
+      const s = await mapState(page);
+      return s && JSON.stringify(s.points.map((p) => p.job_id)) === JSON.stringify(ids) ? s : null;
+    }, { timeoutMs: 15000, what: `the map of runs ${ids}` });
+    const m2 = await shown([id2]);
+    assert.equal(m2.points[0].cat, 'a', 'the 2D run by default');
+    await page.selectOption('#map-geometry', 'pseudo1d_3d');
+    const m3 = await shown([id3]);
+    assert.equal(m3.points[0].cat, 'b', 'the 3D run once the 3D column is chosen');
+    assert.match(hash(page), /geometry=pseudo1d_3d/);
+    await page.reload();
+    await shown([id3]);
+    assert.equal(await page.inputValue('#map-geometry'), 'pseudo1d_3d', 'the choice survives a reload');
+    await page.selectOption('#map-geometry', '');
+    await shown([id2]);
+    assert.doesNotMatch(hash(page), /geometry=/);
     assert.deepEqual(h.pageErrors, [], 'no errors in the page');
   } catch (e) {
     for (const [k, v] of Object.entries(h.logs)) if (v) console.log(`# ${k} log tail:\n${v.slice(-3000)}`);

@@ -58,12 +58,14 @@ export const api = {
   health: () => request('GET', '/health'),
   presets: () => request('GET', '/presets'),
   limits: () => request('GET', '/limits'),
-  // The runs at phi and their points (summaries); sweep, cpu: one sweep, one grid, or none.
-  phaseMap: (phi, sweep, cpu) =>
-    request('GET', `/phase-map?phi=${encodeURIComponent(phi)}${sweep ? `&sweep=${sweep}` : ''}${cpu ? `&cells_per_unit=${cpu}` : ''}`),
+  // The runs at phi and their points (summaries); sweep, cpu: one sweep, one grid, or none;
+  // geometry: the runs of that geometry (none: the server's default, the 2D pseudo-1D column).
+  phaseMap: (phi, sweep, cpu, geometry) => request('GET', `/phase-map?${new URLSearchParams({
+    phi, ...(sweep ? { sweep } : {}), ...(cpu ? { cells_per_unit: cpu } : {}), ...(geometry ? { geometry } : {}) })}`),
   // The classes the labelled runs predict over the map (its background); cpu: one grid or none.
-  regions: (phi, sweep, cpu, grid) => request('GET', `/phase-map/regions?${new URLSearchParams({
-    phi, ...(sweep ? { sweep } : {}), ...(cpu ? { cells_per_unit: cpu } : {}), ...(grid ? { grid } : {}) })}`),
+  regions: (phi, sweep, cpu, grid, geometry) => request('GET', `/phase-map/regions?${new URLSearchParams({
+    phi, ...(sweep ? { sweep } : {}), ...(cpu ? { cells_per_unit: cpu } : {}), ...(grid ? { grid } : {}),
+    ...(geometry ? { geometry } : {}) })}`),
   sweeps: (limit = 200) => request('GET', `/sweeps?limit=${limit}`),
   sweep: (id) => request('GET', `/sweeps/${id}`),
   // An adaptive sweep's plan: state, runs and CPU-hours against its budgets, levels, next runs.

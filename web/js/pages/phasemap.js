@@ -49,6 +49,8 @@ function pageHtml() {
           <select id="map-phi" aria-label="solid fraction phi"></select></label>
         <label class="field">Numerics
           <select id="map-cpu" aria-label="numerics preset"><option value="finest">finest run per point</option><option value="all">all resolutions</option></select></label>
+        <label class="field">Column
+          <select id="map-geometry" aria-label="geometry"><option value="">2D pseudo-1D</option><option value="pseudo1d_3d">3D pseudo-1D</option><option value="full2d">full 2D</option></select></label>
         <label class="field">Sweep
           <select id="map-sweep" aria-label="sweep"><option value="">all sweeps</option></select></label>
         <label class="check"><input type="checkbox" id="map-buckling"><span>buckling onset <i>R</i><sub>crit</sub> = π²<i>a</i>²/12</span></label>
@@ -342,6 +344,7 @@ function createPage(root, params) {
       finest: !params.cpu || params.cpu === FINEST,
       view: viewOf(params), // the part of the plane shown (mapview.js), null: every point
       sweep: params.sweep || '',
+      geometry: params.geometry || '', // the runs' geometry ('': the 2D pseudo-1D column)
       buckling: params.buckling !== '0',
       regions: params.regions !== '0',
       robust: params.robust === '1', // robust points only
@@ -354,7 +357,7 @@ function createPage(root, params) {
     },
     el: {
       plotBox: $('map-plot'), summary: $('map-summary'), live: $('map-live'),
-      phi: $('map-phi'), cpu: $('map-cpu'), sweep: $('map-sweep'), buckling: $('map-buckling'), regions: $('map-regions'), robust: $('map-robust'),
+      phi: $('map-phi'), cpu: $('map-cpu'), sweep: $('map-sweep'), geometry: $('map-geometry'), buckling: $('map-buckling'), regions: $('map-regions'), robust: $('map-robust'),
       exportSvg: $('map-export-svg'), exportPng: $('map-export-png'), legend: $('map-legend'), keys: $('map-keys'),
       reset: $('map-reset'), viewText: $('map-view-text'), numerics: $('map-numerics'), plan: $('map-plan'),
     },
@@ -374,7 +377,7 @@ function createPage(root, params) {
 }
 
 function syncUrl(state) {
-  setParams({ phi: state.phi, cpu: state.cpu !== 'all' ? state.cpu : state.finest ? '' : 'all', sweep: state.sweep, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0', robust: state.robust ? '1' : '', ...viewParams(state.view) });
+  setParams({ phi: state.phi, cpu: state.cpu !== 'all' ? state.cpu : state.finest ? '' : 'all', sweep: state.sweep, geometry: state.geometry, buckling: state.buckling ? '' : '0', regions: state.regions ? '' : '0', robust: state.robust ? '1' : '', ...viewParams(state.view) });
 }
 
 // A new view (null: every point), in the URL and drawn.
@@ -494,7 +497,7 @@ function visiblePoints(state) {
   return state.robust ? pts.filter((p) => p.robust) : pts;
 }
 
-const regionFilters = (state) => JSON.stringify([state.phi, state.sweep, state.cpu]);
+const regionFilters = (state) => JSON.stringify([state.phi, state.sweep, state.cpu, state.geometry]);
 
 // What the regions answer depends on: the filters, the labelled runs and the box's extent.
 function regionKey(state) {
@@ -514,7 +517,7 @@ async function loadRegions(page) {
   const key = regionKey(state);
   if (key === state.regionKey) return;
   try {
-    const data = await api.regions(state.phi, state.sweep, state.cpu === 'all' ? '' : state.cpu);
+    const data = await api.regions(state.phi, state.sweep, state.cpu === 'all' ? '' : state.cpu, undefined, state.geometry);
     if (!page.alive || key !== regionKey(state)) return; // the filters changed meanwhile
     state.regionKey = key;
     state.regionFor = regionFilters(state);
@@ -604,7 +607,7 @@ function figureOf(state, plot, marks, regions, keys) {
       ...Object.entries(STATES).filter(([k]) => marks.counts[k]).map(([k, s]) => ({ cat: k, name: s.name, count: marks.counts[k] })),
       ...keys.map((k) => ({ mark: k.mark, color: k.color, name: k.text.replace(', ringed by its runner-up', ', ring: runner-up') }))],
     title: `Phase map at phi = ${state.phi}`,
-    note: [`φ = ${state.phi}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : state.finest ? ', finest run per point' : ''}${state.robust ? ', robust points only' : ''}`,
+    note: [`φ = ${state.phi}${state.geometry ? `, ${state.geometry}` : ''}${state.sweep ? `, sweep ${state.sweep}` : ''}${state.cpu !== 'all' ? `, ${state.cpu} cells per unit cell` : state.finest ? ', finest run per point' : ''}${state.robust ? ', robust points only' : ''}`,
       ...(state.view ? [`view: log10 S ${state.view.S.join(' to ')}, log10 R ${state.view.R.join(' to ')}`] : []),
       ...(regions ? [`regions from ${regions.data.runs} labelled runs`] : [])],
   };
@@ -756,7 +759,7 @@ async function poll(page) {
   if (!document.hidden) {
     const { state, el } = page;
     try {
-      const data = await api.phaseMap(state.phi, state.sweep);
+      const data = await api.phaseMap(state.phi, state.sweep, '', state.geometry);
       if (!page.alive) return;
       takeAnswer(page, data);
       showLive(el.live, state);
@@ -785,6 +788,8 @@ function wireControls(page) {
     syncUrl(state); render(page); loadRegions(page);
   });
   el.reset.addEventListener('click', () => setView(page, null));
+  el.geometry.value = state.geometry;
+  el.geometry.addEventListener('change', () => { state.geometry = el.geometry.value; state.signature = ''; state.answer = null; syncUrl(state); poll(page); });
   el.sweep.addEventListener('change', () => { state.sweep = el.sweep.value; state.signature = ''; state.answer = null; state.plan = null; state.planFor = null; syncUrl(state); poll(page); });
   el.buckling.addEventListener('change', () => { state.buckling = el.buckling.checked; syncUrl(state); render(page); });
   el.regions.addEventListener('change', () => { state.regions = el.regions.checked; syncUrl(state); render(page); loadRegions(page); });

@@ -152,7 +152,7 @@ async function renderReplicates(page, job) {
   if (!others.length) { box.hidden = true; box.replaceChildren(); return; }
   let runs = new Map(), s = null;
   try {
-    const map = await api.phaseMap(job.phi, '', job.cells_per_unit);
+    const map = await api.phaseMap(job.phi, '', job.cells_per_unit, job.scene?.geometry);
     runs = new Map(map.points.map((p) => [p.job_id, p]));
     s = (map.summaries || []).find((x) => x.point_id === job.point_id) || null;
   } catch { /* the links alone */ }
