@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Sets everything up and runs the whole test suite: the optimised build with every test (unit,
 # physics, end-to-end with real server and workers, browser tests in headless Chromium, the
-# fresh-machine check), then the ASan+UBSan build with the tests not labelled "slow".
+# fresh-machine check), then the ASan+UBSan build with the tests not labelled "slow" or
+# "resources" (the server's memory and latency bounds, which the sanitizer's own costs distort).
 #   COMPACTION_TEST_QUICK=1: the optimised build with the tests not labelled "slow" (test preset
-#   quick, the sanitizer pass's set: both inherit not-slow) and no sanitizer pass.
+#   quick; the sanitizer pass's set is the same less "resources") and no sanitizer pass.
 #   scripts/check-fresh-machine.sh sets it inside its clean Debian 12: what it proves there is the
 #   install steps, a real build and the tests that use what was installed (the browser, promtool);
 #   "slow" holds the fresh-machine check itself (no recursion), the container and slurm tests and
