@@ -100,7 +100,7 @@ test('every page at 390 x 844: no sideways scroll, nothing past the edge, the na
         await page.locator(`tr[data-sweep="${local.json.id}"] .progress`).waitFor();
         for (const d of await page.locator('details.advanced').all()) await d.evaluate((e) => { e.open = true; });
       }],
-      ['labels', '#/labels', () => page.waitForTimeout(300)],
+      ['labels', '#/labels', () => page.locator('table.audit').waitFor()],
     ];
     const failures = [];
     for (const [name, hash, ready] of pages) {
@@ -119,6 +119,11 @@ test('every page at 390 x 844: no sideways scroll, nothing past the edge, the na
     await settle(page);
     await shot(page, 'phone-sweeps-1440');
     await fits(page, 'sweeps at 1440');
+    await page.goto(`${h.url}/#/labels`);
+    await page.locator('table.audit').waitFor();
+    await settle(page);
+    await shot(page, 'phone-labels-1440');
+    await fits(page, 'labels at 1440');
     assert.deepEqual(h.pageErrors, []);
   } finally {
     await h.close();
