@@ -50,6 +50,7 @@ std::vector<MapPoint> map_points(const std::vector<PhaseMapPoint>& runs) {
     p.S = first.S, p.R = first.R, p.phi = first.phi, p.eps_end = first.eps_end;
     p.cells_per_unit = first.cells_per_unit;
     p.structure = first.structure;
+    p.geometry = first.geometry;
     std::vector<adaptive::Labelled> labels, finished;
     for (const PhaseMapPoint* r : g) {
       p.jobs.push_back(r->job_id);

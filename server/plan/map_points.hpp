@@ -18,7 +18,7 @@ struct MapPoint {
   std::int64_t point_id = 0;
   double S = 0, R = 0, phi = 0, eps_end = 0;
   std::int64_t cells_per_unit = 0;
-  std::string structure;
+  std::string structure, geometry;
   std::vector<std::int64_t> jobs;  // its runs, by id
   Tally tally;
   std::optional<Spread> band_speed_ratio, band_speed_early, band_speed_lead, band_speed_transit,

@@ -226,7 +226,7 @@ constexpr const char* map_columns =
     " r.band_speed_ratio, j.id, r.status, j.cells_per_unit, j.eps_end, j.progress_eps,"
     " r.band_speed_error, r.band_speed_transit, r.band_speed_transit_error, h.label,"
     " j.structure, r.band_speed_early, r.band_speed_early_error, r.band_speed_lead,"
-    " r.band_speed_lead_error, j.point_id";
+    " r.band_speed_lead_error, j.point_id, j.geometry";
 
 PhaseMapPoint read_map_point(sqlite::Statement& s) {
   PhaseMapPoint p;
@@ -254,6 +254,7 @@ PhaseMapPoint read_map_point(sqlite::Statement& s) {
   p.band_speed_lead = s.opt_real(21);
   p.band_speed_lead_error = s.opt_real(22);
   p.point_id = s.opt_int64(23).value_or(0);
+  if (auto geometry = s.opt_text(24)) p.geometry = *geometry;
   return p;
 }
 

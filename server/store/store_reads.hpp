@@ -103,6 +103,7 @@ struct PhaseMapPoint {
   std::int64_t point_id = 0;  // the point the run is a replicate of (migration 0011)
   std::optional<std::string> human_label;  // a person's label; `cls` stays the classifier's
   std::string structure = "regular";  // the scene's voids; scenes older than the key: regular
+  std::string geometry = "pseudo1d";  // the scene's column (migration 0013)
 };
 
 struct ArtifactInfo {

@@ -254,6 +254,12 @@ json model(double phi) {
 
 namespace {
 
+// Grid cells across a run's strut: the square hole's strut in 2D, the cubic hole's in 3D.
+double strut_cells(std::int64_t cells_per_unit, double phi, const std::string& geometry) {
+  const bool cube = geometry == to_string(Geometry::pseudo1d_3d);
+  return static_cast<double>(cells_per_unit) * (cube ? strut_fraction_3d(phi) : strut_fraction(phi));
+}
+
 // A reading's spread over a point's replicates: {mean, n, sd}, or null when no run has it.
 void spread_value(JsonText& t, const std::optional<Spread>& s) {
   if (!s) {
@@ -281,7 +287,7 @@ void point_summary(JsonText& t, const MapPoint& p) {
   spread_value(t, p.band_speed_ratio);
   t.key("band_speed_transit");
   spread_value(t, p.band_speed_transit);
-  t.key("cells_per_strut").value(static_cast<double>(p.cells_per_unit) * strut_fraction(p.phi));
+  t.key("cells_per_strut").value(strut_cells(p.cells_per_unit, p.phi, p.geometry));
   t.key("cells_per_unit").value(p.cells_per_unit);
   t.key("eps_end").value(p.eps_end);
   t.key("finished").value(static_cast<std::int64_t>(k.finished));
@@ -339,7 +345,7 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.key("band_speed_ratio").value(p.band_speed_ratio);
     t.key("band_speed_transit").value(p.band_speed_transit);
     t.key("band_speed_transit_error").value(p.band_speed_transit_error);
-    t.key("cells_per_strut").value(static_cast<double>(p.cells_per_unit) * strut_fraction(p.phi));
+    t.key("cells_per_strut").value(strut_cells(p.cells_per_unit, p.phi, p.geometry));
     t.key("cells_per_unit").value(p.cells_per_unit);
     t.key("class").value(p.cls);
     t.key("confidence").value(p.confidence);
@@ -348,10 +354,6 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.key("job_id").value(p.job_id);
     t.key("n_reflections").value(p.n_reflections);
     t.key("phi").value(p.phi);
-    t.key("progress_eps").value(p.progress_eps);
-    t.key("runner_up").value(p.runner_up);
-    t.key("state").value(p.state);
-    t.key("status").value(p.status);
     t.key("point_id").value(p.point_id);
     t.key("progress_eps").value(p.progress_eps);
     t.key("runner_up").value(p.runner_up);

@@ -60,6 +60,14 @@ default_map = [p["job_id"] for p in env.get("/api/v1/phase-map?phi=0.4")["points
 check(default_map == [job2["id"]], "the default map is the 2D one: %s" % default_map)
 map_3d = [p["job_id"] for p in env.get("/api/v1/phase-map?phi=0.4&geometry=pseudo1d_3d")["points"]]
 check(map_3d == [job3["id"]], "the 3D map holds the 3D run only: %s" % map_3d)
+# Cells across the strut: 8 (1 - cbrt(0.6)) = 1.25 for the cubic hole, 8 (1 - sqrt(0.6)) = 1.80
+# for the square one (to the 3 digits the check reads).
+answer_3d = env.get("/api/v1/phase-map?phi=0.4&geometry=pseudo1d_3d")
+check(round(answer_3d["points"][0]["cells_per_strut"], 3) == 1.253 and
+      round(answer_3d["summaries"][0]["cells_per_strut"], 3) == 1.253,
+      "the 3D run's strut: %s" % answer_3d["points"][0]["cells_per_strut"])
+check(round(env.get("/api/v1/phase-map?phi=0.4")["points"][0]["cells_per_strut"], 3) == 1.803,
+      "the 2D run's strut")
 regions = env.get("/api/v1/phase-map/regions?phi=0.4&geometry=pseudo1d_3d")
 check(regions["runs"] <= 1, "the 3D regions count the 3D runs only: %s" % regions["runs"])
 check(env.get("/api/v1/phase-map?phi=0.4&geometry=full2d")["points"] == [], "no full2d runs")
