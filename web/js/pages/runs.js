@@ -291,9 +291,14 @@ function publish(page, what) {
   page.root.dataset.runsRenders = String(hook.runs.n);
 }
 
-// A changed filter starts again at the first page.
+// A changed filter starts again at the first page. The form's change event also comes when a
+// typed filter, already applied, loses focus (a click on a column's head, say): the same
+// filters again ask nothing, so that no second answer redraws the table under that click.
 function onFilters(page) {
-  page.query = { ...page.query, filters: readForm(page), cursor: '' };
+  const filters = readForm(page);
+  const text = (f) => JSON.stringify(Object.entries(f || {}).sort());
+  if (text(filters) === text(page.query.filters)) return;
+  page.query = { ...page.query, filters, cursor: '' };
   page.stack = [];
   apply(page);
 }
