@@ -9,8 +9,9 @@ double particles(const SceneParams& p) {
   const int dims = p.geometry == Geometry::pseudo1d_3d ? 3 : 2;
   const double lattice = std::pow(static_cast<double>(per_unit), dims);
   const double unit_cells = static_cast<double>(p.n_rows) * p.cols();
-  if (p.structure == Structure::random || p.phi >= kSolidColumnPhi) return p.phi * unit_cells * lattice;
-  // A regular structure: the lattice less its hole, as the scene builders place them.
+  if (p.structure == Structure::random) return p.phi * unit_cells * lattice;
+  // A regular structure: the lattice less its hole, as the scene builders place them (none in
+  // the solid column, phi = 1).
   return unit_cells * (lattice - std::pow(static_cast<double>(regular_void_side(p, per_unit)), dims));
 }
 

@@ -27,6 +27,10 @@ TEST(CostModel, particles_and_steps_match_the_measured_run_of_example_a) {
   // Exact: the model counts the lattice less its holes as the scene builder places them (21 726
   // measured, studies/savings/README.md).
   EXPECT_EQ(cost::particles(p), 21726);
+  // The solid column (phi = 1) has no hole: 34 rows of 40 x 40.
+  SceneParams solid = p;
+  solid.phi = kSolidColumnPhi;
+  EXPECT_EQ(cost::particles(solid), 34 * 40 * 40);
   // Tolerance 0.5 %: the model's fastest particle is the plate (V); the engine's step takes the
   // fastest particle each step (237 626 steps measured, studies/savings/README.md).
   EXPECT_NEAR(cost::steps(p), 237626, 0.005 * 237626);
