@@ -29,9 +29,10 @@ function inlined(node) {
 }
 
 // The standalone SVG element of the map. figure: { plot, markers: [{cat, x, y, r, progress,
-// fade, ring, split, unsettled, human}], regions: {x0, y0, x1, y1, image} | null, legend: [{cat,
+// fade, ring, split, unsettled, human, job}], regions: {x0, y0, x1, y1, image} | null, legend: [{cat,
 // name, count}, {mark: {cat, fade, ring, split, unsettled}, name} or {color: [r, g, b], name}],
-// title, note: lines of text under the legend }.
+// title, note: lines of text under the legend, drawMark(ctx, marker): how a marker is drawn
+// (drawPointMark unless given; the Plots page's) }. A marker with a job carries it (data-job).
 export function mapSvg(figure) {
   const { plot, markers, regions, legend, title, note } = figure;
   const w = Number(plot.svg.getAttribute('width')), h = Number(plot.svg.getAttribute('height'));
@@ -59,9 +60,10 @@ export function mapSvg(figure) {
     }, area);
   }
   const marks = svgEl('g', { 'data-layer': 'markers' }, area);
+  const drawMark = figure.drawMark || drawPointMark;
   for (const m of markers) {
-    const g = svgEl('g', { 'data-cat': m.cat }, marks);
-    drawPointMark(new SvgPathContext(g), { ...m, x: plot.m.l + m.x, y: plot.m.t + m.y });
+    const g = svgEl('g', m.job ? { 'data-cat': m.cat, 'data-job': m.job } : { 'data-cat': m.cat }, marks);
+    drawMark(new SvgPathContext(g), { ...m, x: plot.m.l + m.x, y: plot.m.t + m.y });
   }
   // The frame again over the background, as on the page (the canvas sits inside it).
   svgEl('rect', { x: plot.m.l, y: plot.m.t, width: plot.pw, height: plot.ph, fill: 'none', stroke: '#1d2433', 'stroke-width': 1 }, svg);

@@ -170,3 +170,10 @@ export function mapHashOfQuery(q) {
   const t = s.toString();
   return `#/map${t ? `?${t}` : ''}`;
 }
+
+// The Plots page (js/pages/plots.js) of the table's filters (its default axes; the sort and the
+// page do not matter to a plot).
+export function plotsHashOfQuery(q, limits) {
+  const t = sharedQuery({ ...q, sort: '' }, limits);
+  return `#/plots${t ? `?${t}` : ''}`;
+}

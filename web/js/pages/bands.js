@@ -7,13 +7,13 @@
 import { api } from '../api.js';
 import { CLASSES, label } from '../classes.js';
 import { majorityRuns, mapPoints, notRobustWhy, probabilitiesHtml, spreadText } from '../points.js';
-import { Plot, logExtent, svgEl, colormap, cssColor } from '../plot.js';
+import { Plot, logExtent, svgEl } from '../plot.js';
+import { NR_MAX, nrColor } from '../reflections.js';
 import { stressRatio } from '../physics.js';
 import { sci, fixed, escapeHtml } from '../format.js';
 import { setParams } from '../router.js';
 
 const POLL_MS = 4000;
-const NR_MAX = 6; // colours for N_r = 0 .. 5 and "6 or more"
 const CAP_PX = 4; // half the width of an error bar's cap
 // ... and of a replicate mean's (± their standard deviation): wider than the marker (6 px), so
 // that a bar of the spread of replicates reads apart from a run's own uncertainty.
@@ -39,11 +39,6 @@ const LEFT_OFF = {
   notBand: (n, what) => `${n} ${what}${n === 1 ? '' : 's'} of class c to f (not a band)`,
   unlabelled: (n, what) => `${n} ${what}${n === 1 ? '' : 's'} without a label (pending, failed, unstable or unclassified)`,
 };
-
-export function nrColor(n) {
-  const lut = colormap('viridis');
-  return cssColor(lut, Math.min(n, NR_MAX) / NR_MAX * 0.92);
-}
 
 const finite = (x) => typeof x === 'number' && Number.isFinite(x);
 const errorOf = (e) => (finite(e) && e >= 0 ? e : null);

@@ -9,9 +9,9 @@ import { api, ApiError } from '../api.js';
 import { CLASSES, inkOn } from '../classes.js';
 import { escapeHtml, fixed, sci } from '../format.js';
 import { parseHash } from '../router.js';
+import { fillFilterForm, fillSweepSelect, filterFormHtml, readFilterForm, showFilterErrors } from '../runfilters.js';
 import {
-  JOB_STATES, LETTERS, checkQuery, csvQuery, earlyTableQuery, filterNames, mapHashOfQuery, pageHash, rangeNames, readQuery, sameQuery,
-  tableQuery,
+  checkQuery, csvQuery, earlyTableQuery, mapHashOfQuery, pageHash, plotsHashOfQuery, readQuery, sameQuery, tableQuery,
 } from '../runquery.js';
 
 // How each column is headed (HTML) and titled; a column not listed is headed by its name.
@@ -27,11 +27,6 @@ const HEADS = {
   source_database: ['source', 'the database that computed the result (imported runs)'], source_job: ['source job'],
 };
 
-// The ranges' labels (a range not listed is labelled by its name).
-const RANGE_LABELS = {
-  S: '<i>S</i>', R: '<i>R</i>', phi: 'φ', confidence: 'confidence', n_reflections: '<i>N</i><sub>r</sub> (reflections)',
-  band_speed_ratio: '<i>c</i><sub>b</sub>/<i>V</i> (band speed)',
-};
 const PAGE_SIZES = [25, 50, 100, 200, 500, 1000];
 const TYPE_DELAY_MS = 350; // a typed filter applies this long after the last key
 
@@ -60,47 +55,6 @@ function cellHtml(col, v) {
   }
 }
 
-function chipsHtml(name, options) {
-  return `<div class="rt-chips" role="group" data-name="${name}">${options.map(([v, text, color]) => `<label class="rt-chip"${color ? ` style="--c:${color}"` : ''}><input type="checkbox" value="${escapeHtml(v)}"><span>${text}</span></label>`).join('')}</div>`;
-}
-
-function errHtml(name) {
-  return `<div class="field-error" data-for="${name}"></div>`;
-}
-
-// The filter form: every filter of limits.jobs.parameters, grouped.
-function formHtml(limits, presets) {
-  const names = filterNames(limits);
-  const has = (n) => names.includes(n);
-  const letters = (extra) => [...LETTERS.map((c) => [c, c, CLASSES[c].color]), ...extra];
-  const parts = [];
-  const field = (name, label, control, hint = '') =>
-    `<div class="f rt-f" data-field="${name}"><label for="rt-${name}">${label}</label>${control}${hint ? `<span class="f-hint">${hint}</span>` : ''}${errHtml(name)}</div>`;
-  if (has('q')) parts.push(field('q', 'Search', `<input type="text" id="rt-q" data-name="q" placeholder="sweep name, source id, label reason or who" maxlength="${limits.jobs.q_max_bytes}">`));
-  if (has('class')) parts.push(`<div class="f rt-f" data-field="class"><label>Class <span class="f-hint">(classifier)</span></label>${chipsHtml('class', letters([['none', 'none']]))}${errHtml('class')}</div>`);
-  if (has('label')) parts.push(`<div class="f rt-f" data-field="label"><label>Label that counts</label>${chipsHtml('label', letters([['none', 'none']]))}${errHtml('label')}</div>`);
-  if (has('human_label')) parts.push(`<div class="f rt-f" data-field="human_label"><label>Human label</label>${chipsHtml('human_label', letters([['any', 'any'], ['none', 'none']]))}${errHtml('human_label')}</div>`);
-  if (has('state')) parts.push(`<div class="f rt-f" data-field="state"><label>State</label>${chipsHtml('state', JOB_STATES.map((s) => [s, s]))}${errHtml('state')}</div>`);
-  if (has('sweep')) {
-    parts.push(field('sweep', 'Sweep', '<select id="rt-sweep" data-name="sweep"><option value="">all sweeps</option></select>'));
-  }
-  if (has('preset')) parts.push(`<div class="f rt-f" data-field="preset"><label>Preset <span class="f-hint">(numerics)</span></label>${chipsHtml('preset', [...presets.map((p) => [p, p]), ['none', 'own numerics']])}${errHtml('preset')}</div>`);
-  if (has('cells_per_unit')) {
-    const { lo, hi } = limits.scene.cells_per_unit;
-    parts.push(field('cells_per_unit', 'Cells per unit cell', `<input type="text" id="rt-cells_per_unit" data-name="cells_per_unit" inputmode="numeric" placeholder="e.g. 8,20">`, `resolution, ${lo} to ${hi}; several comma-separated`));
-  }
-  if (has('imported')) parts.push(field('imported', 'Imported', `<select id="rt-imported" data-name="imported"><option value="">imported or not</option><option value="true">imported</option><option value="false">computed here</option></select>`));
-  if (has('phi')) parts.push(field('phi', 'φ exactly', `<input type="text" id="rt-phi" data-name="phi" inputmode="decimal" placeholder="e.g. 0.4">`));
-  for (const r of rangeNames(limits)) {
-    parts.push(`<div class="f rt-f rt-range" data-field="${r}"><label for="rt-${r}_min">${RANGE_LABELS[r] || escapeHtml(r)}</label>
-      <div class="rt-pair"><input type="text" id="rt-${r}_min" data-name="${r}_min" inputmode="decimal" placeholder="min" aria-label="${r} min"><span>to</span><input type="text" id="rt-${r}_max" data-name="${r}_max" inputmode="decimal" placeholder="max" aria-label="${r} max"></div>
-      ${errHtml(`${r}_min`)}${errHtml(`${r}_max`)}</div>`);
-  }
-  if (has('point')) parts.push(field('point', 'Point', `<input type="text" id="rt-point" data-name="point" inputmode="numeric" placeholder="point id (its replicates)">`));
-  if (has('source')) parts.push(field('source', 'Source database', `<input type="text" id="rt-source" data-name="source" placeholder="start of its id (hex)">`));
-  return parts.join('');
-}
-
 function pageHtml() {
   return `
     <div class="page-head"><h1>Runs</h1>
@@ -118,7 +72,7 @@ function pageHtml() {
           <button type="button" class="small" id="rt-next">next ›</button>
           <select id="rt-limit" aria-label="rows a page" class="rt-limit"></select>
         </span>
-        <span class="rt-links"><a id="rt-csv" download href="#">CSV</a> · <a id="rt-map" href="#/map">on the map</a></span>
+        <span class="rt-links"><a id="rt-csv" download href="#">CSV</a> · <a id="rt-map" href="#/map">on the map</a> · <a id="rt-plot" href="#/plots">plot these runs</a></span>
       </div>
       <div class="rt-scroll" id="rt-scroll"><table class="rt" id="rt-table"></table></div>
       <p class="hint" id="rt-foot"></p>
@@ -141,55 +95,19 @@ function createPage(root, params) {
     el: {
       form: $('rt-form'), clear: $('rt-clear'), error: $('rt-error'), active: $('rt-active'),
       count: $('rt-count'), first: $('rt-first'), prev: $('rt-prev'), next: $('rt-next'), limit: $('rt-limit'),
-      csv: $('rt-csv'), map: $('rt-map'), table: $('rt-table'), foot: $('rt-foot'),
+      csv: $('rt-csv'), map: $('rt-map'), plot: $('rt-plot'), table: $('rt-table'), foot: $('rt-foot'),
     },
   };
 }
 
-// The form's controls set from the query's filters.
+// The form's controls set from the query's filters, and its summary's count.
 function fillForm(page) {
-  const f = page.query.filters;
-  for (const input of page.el.form.querySelectorAll('input[data-name], select[data-name]')) {
-    const v = f[input.dataset.name] ?? '';
-    if (input.tagName === 'SELECT' && v && ![...input.options].some((o) => o.value === v)) input.append(new Option(v, v));
-    input.value = v;
-  }
-  for (const group of page.el.form.querySelectorAll('.rt-chips')) {
-    const on = (f[group.dataset.name] || '').split(',');
-    for (const box of group.querySelectorAll('input')) box.checked = on.includes(box.value);
-  }
-  const n = Object.keys(f).length;
+  const n = fillFilterForm(page.el.form, page.query.filters);
   page.el.active.textContent = n ? `(${n} set)` : '';
 }
 
-// The filters the form holds.
-function readForm(page) {
-  const f = {};
-  for (const input of page.el.form.querySelectorAll('input[data-name], select[data-name]')) {
-    const v = input.value.trim();
-    if (v !== '') f[input.dataset.name] = v;
-  }
-  for (const group of page.el.form.querySelectorAll('.rt-chips')) {
-    const on = [...group.querySelectorAll('input:checked')].map((b) => b.value);
-    if (on.length) f[group.dataset.name] = on.join(',');
-  }
-  return f;
-}
-
-function showErrors(page, problems) {
-  const { root, el } = page;
-  for (const e of root.querySelectorAll('.field-error')) e.textContent = '';
-  for (const f of root.querySelectorAll('.rt-f.invalid')) f.classList.remove('invalid');
-  for (const p of problems) {
-    const at = root.querySelector(`.rt-f .field-error[data-for="${CSS.escape(p.field)}"]`);
-    if (at) {
-      at.textContent = p.message;
-      at.closest('.rt-f').classList.add('invalid');
-    } else {
-      el.error.textContent = `${p.field ? `${p.field}: ` : ''}${p.message}`;
-    }
-  }
-}
+const readForm = (page) => readFilterForm(page.el.form);
+const showErrors = (page, problems) => showFilterErrors(page.root, problems, page.el.error);
 
 // The page's URL: the query, and the cursor stack in history.state (a reload keeps both). A
 // person's change is a new entry of the history (Back shows the rows before: the router mounts
@@ -227,6 +145,7 @@ function updateLinks(page) {
   const { el, query, limits } = page;
   el.csv.href = `/api/v1/jobs?${csvQuery(query, limits)}`;
   el.map.href = mapHashOfQuery(query);
+  el.plot.href = plotsHashOfQuery(query, limits);
 }
 
 async function load(page) {
@@ -352,16 +271,6 @@ function wire(page) {
   });
 }
 
-// The sweeps of the sweep list, when they come (the table does not wait for them).
-function fillSweeps(page, sweeps) {
-  const select = page.el.form.querySelector('#rt-sweep');
-  if (!select) return;
-  const keep = select.value;
-  select.replaceChildren(new Option('all sweeps', ''), ...sweeps.map((s) => new Option(`${s.id} · ${s.name || ''}`, String(s.id))));
-  if (keep && ![...select.options].some((o) => o.value === keep)) select.append(new Option(keep, keep));
-  select.value = keep;
-}
-
 async function start(page) {
   const { root } = page;
   // The first page is asked for at once, beside the limits (load takes it when its query is
@@ -383,7 +292,7 @@ async function start(page) {
   if (window.matchMedia('(max-width: 640px)').matches) root.querySelector('#rt-details').open = false;
   page.limits = limits;
   page.presets = presets.presets.map((p) => p.name);
-  page.el.form.innerHTML = formHtml(limits, page.presets);
+  page.el.form.innerHTML = filterFormHtml(limits, page.presets);
   page.query = readQuery(page.params, limits);
   // The stack of a reload (history.state), if it belongs to this cursor.
   const kept = history.state?.runsStack;
@@ -393,7 +302,7 @@ async function start(page) {
   page.el.limit.value = String(Number(page.query.limit) || limits.lists.default_limit);
   wire(page);
   apply(page, false);
-  sweeps.then((s) => { if (page.alive) fillSweeps(page, s.sweeps || []); });
+  sweeps.then((s) => { if (page.alive) fillSweepSelect(page.el.form, s.sweeps || []); });
   if (page.query.unknown.length) page.el.error.textContent = `ignored: ${page.query.unknown.join(', ')} (not a parameter of the table)`;
 }
 
