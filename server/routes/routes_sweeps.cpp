@@ -1,5 +1,5 @@
-// /api/v1/sweeps: create (grid, points or adaptive), list (through the answer cache: ETag,
-// If-None-Match), show with progress counts, an adaptive sweep's plan, cancel, export.
+// /api/v1/sweeps: create (grid, points or adaptive), list and an adaptive sweep's plan (through
+// the answer cache: ETag, If-None-Match), show with progress counts, cancel, export.
 #include <map>
 #include <sstream>
 
@@ -141,9 +141,14 @@ void register_sweep_routes(httplib::Server& server, App& app) {
              [&app](const httplib::Request& req, httplib::Response& res) {
                const std::int64_t id = path_id(req, 1, "sweep");
                const int limit = query_int(req, "limit", 20, 0, 1000);
-               const auto report = AdaptiveSweeps::report(app.store, app.limits, id);
-               if (!report) throw ApiError(404, "id", "no such sweep");
-               send_json(res, 200, views::sweep_plan(id, *report, static_cast<std::size_t>(limit)));
+               // A plan is read from the database alone (the sweep's request and runs, under
+               // limits fixed at start): the answer cache serves it, so that a page polling an
+               // unchanged plan gets a 304 and the planner's ranking is not made again.
+               app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
+                 const auto report = AdaptiveSweeps::report(app.store, app.limits, id);
+                 if (!report) throw ApiError(404, "id", "no such sweep");
+                 return json_text(views::sweep_plan(id, *report, static_cast<std::size_t>(limit)));
+               });
              });
 
   add_route(server, endpoints::export_sweep,

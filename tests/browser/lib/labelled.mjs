@@ -24,11 +24,11 @@ function multipart(parts) {
 // verdict(scene) -> { class, confidence, runner_up, n_reflections, band_speed_ratio, and
 // optionally features (more of them, over the two made here) and frames (frames.csv's text) } or null
 // (an unclassified run: class null, the other numbers kept). Completes every job queued for
-// the server's engine; returns the number completed.
-export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
+// the server's engine (most: at most that many, in the queue's order); returns the number completed.
+export async function completeAll(url, verdict, { worker = 'labeller', most = Infinity } = {}) {
   const health = await (await fetch(`${url}/api/v1/health`)).json();
   let done = 0;
-  for (;;) {
+  while (done < most) {
     const lease = await fetch(`${url}/api/v1/leases`, {
       method: 'POST', headers: { 'Content-Type': 'application/json' },
       body: JSON.stringify({ worker, engine_version: health.engine_version }),
@@ -57,4 +57,5 @@ export async function completeAll(url, verdict, { worker = 'labeller' } = {}) {
     if (res.status !== 200) throw new Error(`complete ${l.job_id} -> ${res.status} ${await res.text()}`);
     done++;
   }
+  return done;
 }
