@@ -2,6 +2,7 @@
 // the docs share (web/data/feature-glossary.json; docs/classifier.md's table is generated from
 // it, tests/docs/feature_glossary_test.py checks both against the classifier), and the rule of
 // whether a run has a band, whose speeds are shown only then.
+import { escapeHtml, fixed, sci } from './format.js';
 
 let loading = null;
 
@@ -47,4 +48,18 @@ export function groupFeatures(glossary, features) {
     if (!known[key]) other.rows.push({ key, entry: null, value, error: undefined });
   }
   return [...byGroup.values(), other].filter((g) => g.rows.length);
+}
+
+// A feature's value as HTML: a number to 3 digits, yes or no, a list of names, an object of
+// numbers (the scores) one key each.
+export function featureHtml(v) {
+  if (v === null || v === undefined) return '—';
+  if (typeof v === 'boolean') return v ? 'yes' : 'no';
+  if (typeof v === 'string') return escapeHtml(v || '—');
+  if (Array.isArray(v) && v.every((x) => typeof x === 'string')) return v.length ? escapeHtml(v.join(', ')) : 'none';
+  if (typeof v === 'number') return sci(v, 3);
+  if (v && typeof v === 'object' && !Array.isArray(v) && Object.values(v).every((x) => typeof x === 'number')) {
+    return `<span class="scores">${Object.entries(v).map(([k, x]) => `<span><b>${escapeHtml(k)}</b> ${fixed(x, 2)}</span>`).join(' ')}</span>`;
+  }
+  return escapeHtml(JSON.stringify(v));
 }

@@ -6,23 +6,36 @@
 const FRAMES_CSV = 'eps,stress_top,stress_bottom\n' + Array.from({ length: 10 }, (_, i) => `${(i / 100).toFixed(2)},${(i * 1e-3).toFixed(4)},${(i * 5e-4).toFixed(4)}\n`).join('');
 
 // A multipart/form-data body as curl and compaction-worker write it: a Content-Length (a
-// string body, not a stream) and a CRLF after the close delimiter. Node's FormData is not used:
+// Buffer body, not a stream) and a CRLF after the close delimiter. Node's FormData is not used:
 // node 18 (Debian 12's) streams it chunked, and ends it at the close delimiter without that CRLF,
 // which the server's multipart parser (cpp-httplib 0.11) refuses (docs/service.md, "Uploads").
+// A part's value is text (UTF-8) or a Buffer (binary, e.g. a .npy).
 function multipart(parts) {
   const boundary = `----compaction-browser-test-${Date.now()}`;
-  let body = '';
+  const chunks = [];
   for (const p of parts) {
-    body += `--${boundary}\r\nContent-Disposition: form-data; name="${p.name}"`;
-    body += p.filename ? `; filename="${p.filename}"\r\nContent-Type: ${p.type}\r\n\r\n` : '\r\n\r\n';
-    body += `${p.value}\r\n`;
+    let head = `--${boundary}\r\nContent-Disposition: form-data; name="${p.name}"`;
+    head += p.filename ? `; filename="${p.filename}"\r\nContent-Type: ${p.type}\r\n\r\n` : '\r\n\r\n';
+    chunks.push(Buffer.from(head), Buffer.isBuffer(p.value) ? p.value : Buffer.from(String(p.value)), Buffer.from('\r\n'));
   }
-  body += `--${boundary}--\r\n`;
-  return { body, contentType: `multipart/form-data; boundary=${boundary}` };
+  chunks.push(Buffer.from(`--${boundary}--\r\n`));
+  return { body: Buffer.concat(chunks), contentType: `multipart/form-data; boundary=${boundary}` };
+}
+
+// A float32 .npy file (format 1.0, C order) of the given shape and values, as the engine writes
+// spacetime.npy (frames x rows).
+export function npyFloat32(shape, values) {
+  let header = `{'descr': '<f4', 'fortran_order': False, 'shape': (${shape.join(', ')}${shape.length === 1 ? ',' : ''}), }`;
+  header += ' '.repeat((64 - ((10 + header.length + 1) % 64)) % 64) + '\n'; // data 64-byte aligned
+  const head = Buffer.alloc(10);
+  Buffer.from([0x93, 0x4e, 0x55, 0x4d, 0x50, 0x59, 1, 0]).copy(head);
+  head.writeUInt16LE(header.length, 8);
+  return Buffer.concat([head, Buffer.from(header, 'latin1'), Buffer.from(Float32Array.from(values).buffer)]);
 }
 
 // verdict(scene) -> { class, confidence, runner_up, n_reflections, band_speed_ratio, and
-// optionally features (more of them, over the two made here) and frames (frames.csv's text) } or null
+// optionally features (more of them, over the two made here), frames (frames.csv's text) and
+// files (more artifacts: [{name, value: text or Buffer}], e.g. spacetime.npy from npyFloat32) } or null
 // (an unclassified run: class null, the other numbers kept). Completes every job queued for
 // the server's engine (most: at most that many, in the queue's order); returns the number completed.
 export async function completeAll(url, verdict, { worker = 'labeller', most = Infinity } = {}) {
@@ -50,6 +63,7 @@ export async function completeAll(url, verdict, { worker = 'labeller', most = In
       { name: 'lease_token', value: l.lease_token },
       { name: 'summary', filename: 'summary.json', type: 'application/json', value: JSON.stringify(summary) },
       { name: 'files', filename: 'frames.csv', type: 'text/csv', value: v.frames ?? FRAMES_CSV },
+      ...(v.files || []).map((f) => ({ name: 'files', filename: f.name, type: 'application/octet-stream', value: f.value })),
     ]);
     const res = await fetch(`${url}/api/v1/jobs/${l.job_id}/complete`, {
       method: 'POST', body, headers: { 'Content-Type': contentType },

@@ -4,14 +4,16 @@
 import { api, fetchArtifact } from '../api.js';
 import { majorityCount, notRobustWhy, probabilitiesHtml, runStateText, spreadText } from '../points.js';
 import { showRelabel } from '../relabel.js';
+import { MAX_COMPARE, compareHash, picked, setPicked } from '../compareset.js';
 import { CLASSES, category, inkOn, label, look } from '../classes.js';
-import { Plot, colormap, colorBar, linearExtent, logExtent } from '../plot.js';
-import { effectiveLabel, groupFeatures, hasBand, loadGlossary } from '../glossary.js';
+import { colormap } from '../plot.js';
+import { effectiveLabel, featureHtml, groupFeatures, hasBand, loadGlossary } from '../glossary.js';
 import { parseNpy } from '../npy.js';
 import { parseMovie } from '../movie.js';
-import { particleFigure, RATE_LABEL } from '../particles.js';
+import { particleFigure } from '../particles.js';
 import { mountPlayer } from '../player.js';
-import { parseCsv } from '../csv.js';
+import { drawSpacetime, loadFrames, loadSpacetime } from '../spacetime.js';
+import { logShows, plateStresses, stressAxisText, stressPlot, toggleTabs } from '../stressplot.js';
 import { stressRatio } from '../physics.js';
 import { sci, fixed, when, duration, bytes, escapeHtml } from '../format.js';
 
@@ -29,6 +31,7 @@ function pageHtml(id) {
       <a class="back" href="#/map">← phase map</a>
       <h1 id="run-title">Run ${id}</h1>
       <p class="sub" id="run-sub">loading…</p>
+      <p class="run-compare" id="run-compare"></p>
       <div class="run-import" id="run-import" hidden></div>
       <div class="replicates" id="run-replicates" hidden></div>
     </div>
@@ -53,7 +56,7 @@ function createPage(root, id) {
   return {
     id,
     el: {
-      title: $('run-title'), sub: $('run-sub'), imported: $('run-import'), replicates: $('run-replicates'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
+      title: $('run-title'), sub: $('run-sub'), compare: $('run-compare'), imported: $('run-import'), replicates: $('run-replicates'), spacetime: $('st-fig'), stress: $('stress-fig'), snapshot: $('snap-box'), movie: $('movie-box'),
       classBox: $('class-box'), label: $('label-box'), params: $('params-box'), state: $('state-box'), files: $('files-box'),
     },
     alive: true,
@@ -85,6 +88,7 @@ async function load(page) {
   if (job.result?.origin && page.provenance === undefined) page.provenance = await importProvenance(job);
   if (!page.alive) return;
   renderHead(el, job);
+  renderCompare(page);
   renderImport(el.imported, job, page.provenance);
   renderReplicates(page, job); // beside the rest: it reads the map, the page need not wait
   el.state.innerHTML = stateHtml(job);
@@ -111,6 +115,24 @@ function renderHead(el, job) {
   const progress = job.state === 'running' && job.progress_eps !== null ? ` · ε = ${fixed(job.progress_eps, 3)} of ${fixed(job.eps_end, 2)}` : '';
   el.sub.innerHTML = `<i>S</i> = ${sci(job.S)} · <i>R</i> = ${sci(job.R)} · φ = ${job.phi} · <i>R</i>/<i>S</i>² = <i>q</i><sub>y</sub>/(ρ<i>V</i>²) = ${sci(stressRatio(job.S, job.R))} · ${job.cells_per_unit} cells per unit cell (${Number(job.cells_per_strut).toFixed(1)} across a strut)${progress}`;
   document.title = `run ${job.id} · compaction-sweep`;
+}
+
+// The runs picked for comparison (js/compareset.js, shared with the Runs page's checkboxes): this
+// run added or removed, and the comparison of the picks once there are two.
+function renderCompare(page) {
+  const box = page.el.compare;
+  const ids = picked();
+  const here = ids.includes(page.id);
+  const others = ids.filter((x) => x !== page.id);
+  const full = !here && ids.length >= MAX_COMPARE;
+  const button = `<button type="button" class="small" id="run-pick"${full ? ` disabled title="at most ${MAX_COMPARE} runs are compared"` : ''}>${here ? 'remove from comparison' : 'add to comparison'}</button>`;
+  const link = ids.length >= 2 ? ` <a id="run-compare-link" href="${compareHash(ids)}">compare the ${ids.length} picked runs</a>`
+    : others.length ? ` <span class="muted">picked: run ${others[0]}</span>` : '';
+  box.innerHTML = button + link;
+  box.querySelector('#run-pick').addEventListener('click', () => {
+    setPicked(here ? others : [...ids, page.id]);
+    renderCompare(page);
+  });
 }
 
 // An imported run's provenance: the `imported` of the first of its sweeps that was imported
@@ -164,7 +186,9 @@ async function renderReplicates(page, job) {
   const seed = job.scene?.seed, pert = job.scene?.perturbation;
   const what = [seed !== undefined ? `seed ${seed}` : '', pert ? `perturbation ${pert}` : ''].filter(Boolean).join(', ');
   const links = others.map((id) => `<li><a href="#/run/${id}" data-job="${id}">run ${id}</a>${runs.has(id) ? ` <span class="run-state">${runStateText(runs.get(id))}</span>` : ''}</li>`).join('');
-  box.innerHTML = `<div class="rep-head">Replicate${what ? ` (${what})` : ''} of point ${job.point_id}: <b>${total} runs</b></div>
+  const all = [job.id, ...others];
+  const cmp = `<a id="run-compare-replicates" href="${compareHash(all.slice(0, MAX_COMPARE))}">compare these runs</a>${all.length > MAX_COMPARE ? ` <span class="muted">(the first ${MAX_COMPARE})</span>` : ''}`;
+  box.innerHTML = `<div class="rep-head">Replicate${what ? ` (${what})` : ''} of point ${job.point_id}: <b>${total} runs</b> · ${cmp}</div>
     ${s ? `<div class="rep-point">${pointLine(page, s)}</div>` : ''}
     <div class="rep-others"><span class="muted">the other ${others.length === 1 ? 'run' : `${others.length} runs`}:</span><ul class="siblings">${links}</ul></div>`;
 }
@@ -202,10 +226,7 @@ async function renderArtifacts(page, job) {
     return;
   }
   const summary = job.result?.summary || {};
-  let frames = null;
-  if (names.has('frames.csv')) {
-    try { frames = parseCsv(await fetchArtifact(id, 'frames.csv', 'text')); } catch (e) { console.error(e); }
-  }
+  const frames = await loadFrames(id, names);
   if (!page.alive) return;
   const scale = { lut: colormap('inferno'), vmax: await renderSpacetime(page, names, summary, frames) };
   if (!page.alive) return;
@@ -247,11 +268,11 @@ async function renderMovie(page, names, summary, scale) {
 async function renderSpacetime(page, names, summary, frames) {
   const { id } = page;
   const box = page.el.spacetime;
-  if (names.has('spacetime.npy')) {
+  const npy = await loadSpacetime(id, names);
+  if (!page.alive) return null;
+  if (npy) {
     try {
-      const npy = parseNpy(await fetchArtifact(id, 'spacetime.npy'));
-      if (!page.alive) return;
-      return drawSpacetime(box, npy, summary, frames, id);
+      return drawSpacetime(box, npy, summary, frames, id).hi;
     } catch (e) { console.error('spacetime.npy', e); }
   }
   if (names.has('spacetime.png')) {
@@ -369,19 +390,6 @@ function featuresHtml(features, glossary, band, lbl, jobId) {
   return `<details class="features-box" open><summary>Features <span class="muted">(what the classifier read of the run; docs/classifier.md)</span></summary>${body}</details>`;
 }
 
-// A feature's value: a number to 3 digits, an object of numbers (the scores) one key per line.
-function featureHtml(v) {
-  if (v === null || v === undefined) return '—';
-  if (typeof v === 'boolean') return v ? 'yes' : 'no';
-  if (typeof v === 'string') return escapeHtml(v || '—');
-  if (Array.isArray(v) && v.every((x) => typeof x === 'string')) return v.length ? escapeHtml(v.join(', ')) : 'none';
-  if (typeof v === 'number') return sci(v, 3);
-  if (v && typeof v === 'object' && !Array.isArray(v) && Object.values(v).every((x) => typeof x === 'number')) {
-    return `<span class="scores">${Object.entries(v).map(([k, x]) => `<span><b>${escapeHtml(k)}</b> ${fixed(x, 2)}</span>`).join(' ')}</span>`;
-  }
-  return escapeHtml(JSON.stringify(v));
-}
-
 // A download link per artifact, the job's JSON and its sweep's export.
 function filesHtml(list, job, id, absent) {
   return list.length
@@ -391,115 +399,25 @@ function filesHtml(list, job, id, absent) {
       : '<p class="muted">This run has no files' + (job.state === 'failed' ? ' (it failed; see the events).' : '.') + '</p>';
 }
 
-// How many ticks a strain axis of px pixels asks for: one per 60 px (a label such as "0.025"
-// and its gap), at most the 7 of a wide figure.
-const strainTicks = (px) => Math.max(2, Math.min(7, Math.floor(px / 60)));
-
-// The space-time map of spacetime.npy as an image of height against imposed strain, with its
-// colour bar and caption.
-function drawSpacetime(box, npy, summary, frames, id) {
-  const [nf, nr] = npy.shape;
-  const h0 = summary.params?.h0 || 1;
-  const rowH = summary.spacetime?.row_height || h0 / nr;
-  const dEps = summary.params?.d_eps || 0.002;
-  const epsAt = (i) => (frames && frames.columns.eps && frames.rows === nf ? frames.columns.eps[i] : (i + 1) * dEps);
-  const eps1 = epsAt(nf - 1);
-  const eps0 = Math.max(0, eps1 - (nf === 1 ? dEps : (epsAt(nf - 1) - epsAt(0)) * nf / (nf - 1)));
-  const top = (nr * rowH) / h0;
-  // Colour: log10(1 + value), as in spacetime.png; the top 0.5 % clipped so one spike
-  // does not wash the map out.
-  const vals = new Float32Array(npy.data.length);
-  for (let i = 0; i < vals.length; i++) vals[i] = Math.log10(1 + Math.max(0, npy.data[i]));
-  const sorted = Float32Array.from(vals).sort();
-  const vmax = Math.max(sorted[Math.floor(0.995 * (sorted.length - 1))], 1e-6);
-  const lut = colormap('inferno');
-  const img = new ImageData(nf, nr);
-  for (let f = 0; f < nf; f++) {
-    // Rows whose bottom is at or above the top plate, h0 (1 - ε), hold no particles (their 0
-    // is no measurement): they stay transparent, the plot's background, not the colour of 0.
-    const firstEmpty = Math.ceil(((1 - epsAt(f)) * h0) / rowH - 1e-9);
-    for (let r = 0; r < nr; r++) {
-      const o = ((nr - 1 - r) * nf + f) * 4; // height up
-      if (r >= firstEmpty) continue;
-      const k = Math.max(0, Math.min(255, Math.round((vals[f * nr + r] / vmax) * 255))) * 3;
-      img.data[o] = lut[k]; img.data[o + 1] = lut[k + 1]; img.data[o + 2] = lut[k + 2]; img.data[o + 3] = 255;
-    }
-  }
-  const off = document.createElement('canvas');
-  off.width = nf; off.height = nr;
-  off.getContext('2d').putImageData(img, 0, 0);
-  box.replaceChildren();
-  const width = Math.max(340, Math.min(1160, box.clientWidth || 900)); // a phone's card: 340 px, 160 of them the map
-  const plot = new Plot(box, {
-    width, height: 400, canvas: true, margin: { l: 70, r: 110, t: 12, b: 56 }, title: 'space-time map',
-    x: { kind: 'linear', domain: [eps0, eps1], label: 'imposed strain ε = Vt / h_{0}', ticks: strainTicks(width - 180) },
-    y: { kind: 'linear', domain: [0, top], label: 'height y / h_{0}' },
-  });
-  plot.canvas.id = 'st-canvas';
-  plot.ctx.imageSmoothingEnabled = nf < plot.pw / 3 ? false : true;
-  plot.ctx.drawImage(off, 0, 0, plot.pw, plot.ph);
-  colorBar(plot.svg, { x: plot.m.l + plot.pw + 14, y: plot.m.t, w: 14, h: plot.ph, lut, lo: 0, hi: vmax, label: RATE_LABEL });
-  // The top plate, y/h0 = 1 - ε: the map's upper edge in the current configuration.
-  plot.line([eps0, eps1], [1 - eps0, 1 - eps1], { class: 'plate-line', id: 'st-plate', 'clip-path': plot.clipRect() });
-  plot.canvas.dataset.frames = nf;
-  plot.canvas.dataset.rows = nr;
-  const cap = document.createElement('p');
-  cap.className = 'caption';
-  cap.innerHTML = `Row-averaged plastic Hencky strain-rate magnitude, ${nf} frames × ${nr} rows (row height ${fixed(rowH / h0 * 1000, 2)}·10<sup>−3</sup> h<sub>0</sub>). A compaction band is a bright line; its slope is the band speed. Above the top plate (the line) there is no material. <a href="/api/v1/jobs/${id}/artifacts/spacetime.npy">spacetime.npy</a>`;
-  box.append(cap);
-  return vmax;
-}
-
-// The stress of the top and bottom plates over q_y against imposed strain, from frames.csv. On a
-// log axis by default: the top plate's stress reaches thousands of q_y in an inertial run while
-// the plateau the paper discusses lies near 1-10 q_y, a flat line at the foot of a linear axis;
-// two buttons switch the axis (the log axis leaves out the frames at zero stress).
-// The foot of the log axis [q_y]: a plate reached by the elastic precursor's first ripples only
-// carries stresses down to 1e-150 q_y (round-off), which would stretch the axis over 150 decades;
-// what a reader needs starts well below first yield (~0.2 q_y for buckling struts).
-const STRESS_LOG_FLOOR = 1e-3;
-
+// The stress of the top and bottom plates over q_y against imposed strain, from frames.csv
+// (js/stressplot.js), on a log axis by default; two buttons switch the axis.
 function renderStress(page, summary) {
   const box = page.el.stress;
-  const frames = page.frames;
-  if (!frames || !frames.columns.eps) {
+  const p = plateStresses(page.frames);
+  if (!p) {
     box.innerHTML = '<p class="muted">no frames.csv in this result</p>';
     return;
   }
-  const c = frames.columns;
-  const eps = Array.from(c.eps);
-  const top = Array.from(c.sigma_top_over_qy || []), bot = Array.from(c.sigma_bottom_over_qy || []);
-  const log = page.stressScale === 'log' && top.concat(bot).some((v) => v >= STRESS_LOG_FLOOR);
+  const log = page.stressScale === 'log' && logShows(p.top.concat(p.bottom));
   box.replaceChildren();
-  const tabs = document.createElement('div');
-  tabs.className = 'tabs stress-scale';
-  tabs.setAttribute('role', 'group');
-  tabs.setAttribute('aria-label', 'stress axis');
-  for (const [k, t] of [['log', 'log axis'], ['linear', 'linear axis']]) {
-    const b = document.createElement('button');
-    b.type = 'button';
-    b.dataset.scale = k;
-    b.textContent = t;
-    b.className = (log ? 'log' : 'linear') === k ? 'on' : '';
-    b.setAttribute('aria-pressed', String((log ? 'log' : 'linear') === k));
-    b.addEventListener('click', () => { page.stressScale = k; renderStress(page, summary); });
-    tabs.append(b);
-  }
-  box.append(tabs);
+  box.append(toggleTabs('stress axis', [['log', 'log axis'], ['linear', 'linear axis']], log ? 'log' : 'linear',
+    (k) => { page.stressScale = k; renderStress(page, summary); }, 'stress-scale'));
   const width = Math.max(300, Math.min(620, box.clientWidth || 520));
-  const yd = log ? logExtent(top.concat(bot).filter((v) => v >= STRESS_LOG_FLOOR), [0.1, 10], 1) : linearExtent(top.concat(bot, [0]), [0, 1], 0.06);
-  const plot = new Plot(box, {
-    width, height: 360, margin: { l: 70, r: 16, t: 14, b: 56 }, title: 'plate stress',
-    x: { kind: 'linear', domain: [0, eps[eps.length - 1] || 1], label: 'imposed strain ε = Vt / h_{0}', ticks: strainTicks(width - 86) },
-    y: { kind: log ? 'log' : 'linear', domain: yd, label: 'plate stress σ / q_{y}' },
-  });
-  plot.svg.id = 'stress-svg';
-  plot.svg.dataset.scale = log ? 'log' : 'linear';
-  const clip = plot.clipRect();
   // The bottom plate dashed over the top one: where the two stresses agree both stay visible.
-  const shown = (v) => (log && !(v >= STRESS_LOG_FLOOR) ? NaN : v); // below the floor: a gap
-  plot.line([0, ...eps], [0, ...top].map(shown), { class: 'series top', 'clip-path': clip, 'data-series': 'top' });
-  plot.line([0, ...eps], [0, ...bot].map(shown), { class: 'series bottom', 'clip-path': clip, 'data-series': 'bottom' });
+  stressPlot(box, [
+    { eps: p.eps, values: p.top, attrs: { class: 'series top', 'data-series': 'top' } },
+    { eps: p.eps, values: p.bottom, attrs: { class: 'series bottom', 'data-series': 'bottom' } },
+  ], { log, width, svgId: 'stress-svg' });
   // The legend under the axes: inside them it hid a curve on one axis or the other.
   const lg = document.createElement('div');
   lg.className = 'stress-legend';
@@ -508,7 +426,7 @@ function renderStress(page, summary) {
   box.append(lg);
   const cap = document.createElement('p');
   cap.className = 'caption';
-  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, in units of the yield strength <i>q</i><sub>y</sub> = ${summary.params?.q_y ?? 250} N/m${log ? ', on a log axis (from 10<sup>−3</sup> <i>q</i><sub>y</sub>: frames below it, at zero stress or in round-off, are left out)' : ''}. <a href="/api/v1/jobs/${page.id}/artifacts/frames.csv">frames.csv</a>`;
+  cap.innerHTML = `Compressive stress on the plates, averaged over each frame, ${stressAxisText(summary.params?.q_y ?? 250, log)}. <a href="/api/v1/jobs/${page.id}/artifacts/frames.csv">frames.csv</a>`;
   box.append(cap);
 }
 

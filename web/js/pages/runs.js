@@ -7,6 +7,7 @@
 // keeps it); "previous" pops it. Each change is an entry of the browser's history.
 import { api, ApiError } from '../api.js';
 import { CLASSES, inkOn } from '../classes.js';
+import { MAX_COMPARE, compareHash, picked, setPicked } from '../compareset.js';
 import { escapeHtml, fixed, sci } from '../format.js';
 import { parseHash } from '../router.js';
 import { fillFilterForm, fillSweepSelect, filterFormHtml, readFilterForm, showFilterErrors } from '../runfilters.js';
@@ -72,6 +73,7 @@ function pageHtml() {
           <button type="button" class="small" id="rt-next">next ›</button>
           <select id="rt-limit" aria-label="rows a page" class="rt-limit"></select>
         </span>
+        <span class="rt-compare" id="rt-compare"></span>
         <span class="rt-links"><a id="rt-csv" download href="#">CSV</a> · <a id="rt-map" href="#/map">on the map</a> · <a id="rt-plot" href="#/plots">plot these runs</a></span>
       </div>
       <div class="rt-scroll" id="rt-scroll"><table class="rt" id="rt-table"></table></div>
@@ -95,7 +97,7 @@ function createPage(root, params) {
     el: {
       form: $('rt-form'), clear: $('rt-clear'), error: $('rt-error'), active: $('rt-active'),
       count: $('rt-count'), first: $('rt-first'), prev: $('rt-prev'), next: $('rt-next'), limit: $('rt-limit'),
-      csv: $('rt-csv'), map: $('rt-map'), plot: $('rt-plot'), table: $('rt-table'), foot: $('rt-foot'),
+      csv: $('rt-csv'), map: $('rt-map'), plot: $('rt-plot'), table: $('rt-table'), foot: $('rt-foot'), compare: $('rt-compare'),
     },
   };
 }
@@ -190,7 +192,7 @@ function render(page) {
     const inner = sortable ? `<button type="button" class="rt-sort" data-col="${c}"${title ? ` title="${escapeHtml(title)}: sort"` : ''}>${text}${arrow}</button>` : `<span${title ? ` title="${escapeHtml(title)}"` : ''}>${text}</span>`;
     return `<th data-col="${c}"${aria}>${inner}</th>`;
   }).join('');
-  const body = answer.rows.map((r) => `<tr data-id="${r.id}">${cols.map((c) => `<td data-col="${c}">${cellHtml(c, r[c])}</td>`).join('')}</tr>`).join('');
+  const body = answer.rows.map((r) => `<tr data-id="${r.id}">${cols.map((c) => `<td data-col="${c}">${c === 'id' ? pickBoxHtml(r.id) : ''}${cellHtml(c, r[c])}</td>`).join('')}</tr>`).join('');
   el.table.innerHTML = `<thead><tr>${head}</tr></thead><tbody>${body || `<tr><td colspan="${cols.length}" class="muted rt-empty">No run matches these filters.</td></tr>`}</tbody>`;
   const first = page.stack.length * answer.limit;
   const total = answer.total;
@@ -200,8 +202,36 @@ function render(page) {
   el.prev.disabled = el.first.disabled = page.stack.length === 0;
   el.next.disabled = !answer.next;
   const max = limits.jobs.max_csv_rows;
+  updatePicked(page);
   el.foot.textContent = total > max ? `The CSV holds the first ${max.toLocaleString()} of the ${total.toLocaleString()} rows (the server's limit).`
     : 'Click a column\'s head to sort by it, again for the other direction. The CSV holds every row of the filtered set in this order.';
+}
+
+// A row's checkbox: the run picked for comparison (js/compareset.js keeps the picks in the tab
+// across filters, pages and visits), at most MAX_COMPARE of them.
+function pickBoxHtml(id) {
+  const on = picked().includes(id);
+  return `<input type="checkbox" class="rt-pick" data-id="${id}" aria-label="compare run ${id}"${on ? ' checked' : ''}>`;
+}
+
+// The bar's "Compare selected" link with the count, and the boxes that may still be ticked.
+function updatePicked(page) {
+  const ids = picked();
+  const full = ids.length >= MAX_COMPARE;
+  for (const box of page.el.table.querySelectorAll('input.rt-pick')) {
+    box.checked = ids.includes(Number(box.dataset.id));
+    box.disabled = full && !box.checked;
+    box.title = box.disabled ? `at most ${MAX_COMPARE} runs are compared` : '';
+  }
+  const el = page.el.compare;
+  if (!ids.length) {
+    el.innerHTML = `<span class="muted">tick up to ${MAX_COMPARE} runs to compare them</span>`;
+    return;
+  }
+  const link = ids.length >= 2
+    ? `<a id="rt-compare-link" href="${compareHash(ids)}">Compare selected (${ids.length})</a>`
+    : '<span id="rt-compare-link" class="muted">Compare selected: tick one more</span>';
+  el.innerHTML = `${link} <span class="muted">${ids.map((id) => `run ${id}`).join(', ')} · at most ${MAX_COMPARE}</span> <button type="button" class="small" id="rt-compare-clear">clear</button>`;
 }
 
 function publish(page, what) {
@@ -235,6 +265,19 @@ function wire(page) {
     page.query = { ...page.query, filters: {}, cursor: '' };
     page.stack = [];
     apply(page);
+  });
+  el.table.addEventListener('change', (ev) => {
+    const box = ev.target.closest('input.rt-pick');
+    if (!box) return;
+    const id = Number(box.dataset.id);
+    const ids = picked().filter((x) => x !== id);
+    setPicked(box.checked ? [...ids, id].slice(0, MAX_COMPARE) : ids);
+    updatePicked(page);
+  });
+  el.compare.addEventListener('click', (ev) => {
+    if (!ev.target.closest('#rt-compare-clear')) return;
+    setPicked([]);
+    updatePicked(page);
   });
   el.table.addEventListener('click', (ev) => {
     const b = ev.target.closest('.rt-sort');
