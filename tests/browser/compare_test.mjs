@@ -6,7 +6,8 @@
 // colour bar's extent is the lowest value and the highest clipping top of the maps, computed here
 // from the artifacts as downloaded; every cell of the features table holds the API's value; the
 // imported run says it has no files and keeps its column; the Runs page's checkboxes lead to
-// #/compare?ids= in the order ticked, and a run page adds its run; removing a run rewrites the
+// #/compare?ids= in the order ticked, and a run page adds its run; a replicate's run page (a
+// point of three replicates) compares its point's runs; removing a run rewrites the
 // address; an unknown id, an entry that is not an id and a single run say so; at 390 px nothing
 // scrolls sideways; no JavaScript error. Screenshots at 1440 x 900 and 390 x 844.
 import { test } from 'node:test';
@@ -107,7 +108,11 @@ test('compare: one colour scale, one stress plot, one features table, and the wa
     assert.ok(imp.ok, `import -> ${imp.status} ${await imp.text()}`);
     const created = await h.api('/sweeps', SWEEP);
     assert.equal(created.status, 201, JSON.stringify(created.json));
-    assert.equal(await completeAll(h.url, (scene) => VERDICTS.find((x) => Math.abs(Math.log10(scene.S / x.S)) < 0.01).v), 3);
+    // A point of three replicates (its run page's "compare these runs").
+    const replicated = await h.api('/sweeps', { name: 'compare test, replicated', points: [{ S: 0.05, R: 1e-3, phi: 0.4 }], numerics: SWEEP.numerics, replicates: { n: 3, perturbation: 0.01 } });
+    assert.equal(replicated.status, 201, JSON.stringify(replicated.json));
+    const other = { class: 'b', confidence: 0.7, runner_up: 'a', n_reflections: 1, band_speed_ratio: 2, frames: frames(5) };
+    assert.equal(await completeAll(h.url, (scene) => VERDICTS.find((x) => Math.abs(Math.log10(scene.S / x.S)) < 0.01)?.v ?? other), 6);
     const local = (await h.api(`/jobs?sweep=${created.json.id}&limit=10`)).json.jobs.sort((a, b) => a.S - b.S);
     assert.equal(local.length, 3);
     const [erratic, banded, reflecting] = local.map((j) => j.id);
@@ -229,6 +234,17 @@ test('compare: one colour scale, one stress plot, one features table, and the wa
     await page.locator(`#rt-table tr[data-id="${banded}"] input.rt-pick:checked`).waitFor();
     await page.locator('#rt-compare-clear').click();
     assert.equal(await page.locator('#rt-table input.rt-pick:checked').count(), 0);
+
+    // --- A replicate's run page compares its point's runs.
+    const reps = (await h.api(`/jobs?sweep=${replicated.json.id}&limit=10`)).json.jobs.map((j) => j.id);
+    assert.equal(reps.length, 3);
+    const repJob = (await h.api(`/jobs/${reps[0]}`)).json;
+    await page.goto(`${h.url}/#/run/${reps[0]}`);
+    await page.locator('#run-compare-replicates').waitFor();
+    assert.equal(await page.locator('#run-compare-replicates').getAttribute('href'), `#/compare?ids=${[reps[0], ...repJob.replicates].join(',')}`);
+    await freshCompare(page, () => page.locator('#run-compare-replicates').click(), 'the comparison of the replicates');
+    assert.deepEqual((await page.locator('#cmp-table thead th[data-run]').evaluateAll((els) => els.map((e) => Number(e.dataset.run)))).sort((a, b) => a - b), reps.sort((a, b) => a - b));
+    assert.equal(await page.locator('#cmp-stress path[data-series]').count(), 3);
 
     // --- Unknown ids, entries that are no ids, a single run.
     const before = h.pageErrors.length;
