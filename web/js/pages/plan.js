@@ -101,12 +101,13 @@ function stateHtml(plan) {
     <p class="pn-state-text">${escapeHtml(s ? s.text : 'a state this page does not know')}</p></section>`;
 }
 
-// A level's numerics as the sweep's request gives them (its levels, else the sweep's numerics).
+// A level's numerics as the sweep's request gives them (its levels, else the sweep's numerics),
+// but the grid, which the plan gives (cells_per_unit).
 function levelNumerics(sweep, i) {
   const rq = sweep?.request;
   const n = rq?.adaptive?.levels?.[i] ?? (i === 0 ? rq?.numerics : null);
   if (!n) return '';
-  return Object.entries(n).map(([k, v]) => `${k} ${typeof v === 'object' ? JSON.stringify(v) : v}`).join(', ');
+  return Object.entries(n).filter(([k]) => k !== 'cells_per_unit').map(([k, v]) => `${k} ${typeof v === 'object' ? JSON.stringify(v) : v}`).join(', ');
 }
 
 function levelsHtml(plan, sweep) {
