@@ -1,30 +1,33 @@
-// Hash router of the dashboard: #/map, #/run/ID, #/runs, #/bands, #/sweeps (query parameters after '?').
+// Hash router of the dashboard: #/map, #/run/ID, #/runs, #/compare, #/plots, #/bands, #/sweeps,
+// #/plan, #/labels (query parameters after '?').
 // Each page module exports mount(root, params) returning an unmount function (stops its polling).
 import { api } from './api.js';
-import * as phaseMap from './pages/phasemap.js';
-import * as runDetail from './pages/run.js';
-import * as bandSpeed from './pages/bands.js';
-import * as sweeps from './pages/sweeps.js';
-import * as labelAudit from './pages/labels.js';
-import * as runTable from './pages/runs.js';
 import { parseHash } from './router.js';
 
+// A page's module (and what only it imports) loads when the page is first shown, so the first
+// paint of one page does not wait for the code of the others.
 const routes = [
-  { re: /^\/?(map)?$/, page: phaseMap, nav: 'map' },
-  { re: /^\/run\/(\d+)$/, page: runDetail, nav: 'map', id: true },
-  { re: /^\/bands$/, page: bandSpeed, nav: 'bands' },
-  { re: /^\/sweeps$/, page: sweeps, nav: 'sweeps' },
-  { re: /^\/labels$/, page: labelAudit, nav: 'labels' },
-  { re: /^\/runs$/, page: runTable, nav: 'runs' },
+  { re: /^\/?(map)?$/, load: () => import('./pages/phasemap.js'), nav: 'map', name: 'map' },
+  { re: /^\/run\/(\d+)$/, load: () => import('./pages/run.js'), nav: 'map', name: 'run', id: true },
+  { re: /^\/bands$/, load: () => import('./pages/bands.js'), nav: 'bands', name: 'bands' },
+  { re: /^\/sweeps$/, load: () => import('./pages/sweeps.js'), nav: 'sweeps', name: 'sweeps' },
+  { re: /^\/labels$/, load: () => import('./pages/labels.js'), nav: 'labels', name: 'labels' },
+  { re: /^\/runs$/, load: () => import('./pages/runs.js'), nav: 'runs', name: 'runs' },
+  { re: /^\/compare$/, load: () => import('./pages/compare.js'), nav: 'runs', name: 'compare' },
+  { re: /^\/plan$/, load: () => import('./pages/plan.js'), nav: 'sweeps', name: 'plan' },
+  { re: /^\/plots$/, load: () => import('./pages/plots.js'), nav: 'plots', name: 'plots' },
 ];
 
 let unmount = null;
+let shown = 0;  // the number of the latest navigation: a page whose module arrives late is dropped
 
-function route() {
+async function route() {
+  const ticket = ++shown;
   const { path, params } = parseHash();
   const r = routes.find((x) => x.re.test(path)) || routes[0];
   if (r.id) params.id = Number(r.re.exec(path)[1]);
   if (unmount) { try { unmount(); } catch (e) { console.error(e); } }
+  unmount = null;
   document.getElementById('tooltip').hidden = true;
   for (const a of document.querySelectorAll('.nav a')) a.classList.toggle('active', a.dataset.page === r.nav);
   const root = document.getElementById('page');
@@ -32,8 +35,17 @@ function route() {
   const host = document.createElement('div');
   host.className = 'page-host';
   root.replaceChildren(host);
-  root.dataset.page = r.page === runDetail ? 'run' : r.nav;
-  unmount = r.page.mount(host, params) || null;
+  root.dataset.page = r.name;
+  let page;
+  try {
+    page = await r.load();
+  } catch (e) {
+    if (ticket === shown) host.innerHTML = '<p class="error">This page could not be loaded; reload to try again.</p>';
+    console.error(e);
+    return;
+  }
+  if (ticket !== shown) return;
+  unmount = page.mount(host, params) || null;
   window.scrollTo(0, 0);
 }
 
