@@ -1,6 +1,7 @@
 // Every page of the dashboard on a phone (issue 49, item 6): at 390 x 844 each route of
 // web/js/main.js (#/map, #/run/ID of a local run with results and of an imported run, #/runs,
-// #/bands, #/sweeps with the form's advanced parts open, #/labels) renders with the document no
+// #/bands, #/sweeps with the form's advanced parts open, #/labels, #/plan of an adaptive sweep
+// left queued) renders with the document no
 // wider than the window, no element's right edge past the window except inside a box that scrolls
 // sideways itself (overflow-x auto or scroll; the offender is named), and every nav link visible
 // inside the window and clickable. Data: the committed studies/phase_map/results/sweep-2.export.json
@@ -19,6 +20,8 @@ const SWEEP = {
   name: 'phone width test', S: { min: 1e-3, max: 1e-1, n: 3, scale: 'log' }, R: { min: 1e-4, max: 1e-2, n: 2, scale: 'log' }, phi: 0.4,
   numerics: { preset: 'fast', cells_per_unit: 5, eps_end: 0.1 },
 };
+// An adaptive sweep over the same box, left queued: its plan page (#/plan).
+const ADAPTIVE = { S: { min: 1e-3, max: 1e-1 }, R: { min: 1e-4, max: 1e-2 }, initial: { S: 2, R: 2 }, resolution_decades: 0.5, budget: 6 };
 
 async function shot(page, name) {
   const path = join(artifactsDir(), `${name}.png`);
@@ -84,6 +87,8 @@ test('every page at 390 x 844: no sideways scroll, nothing past the edge, the na
     assert.equal(done, 6);
     const queued = await h.api('/sweeps', { ...SWEEP, name: 'phone width test, queued', phi: 0.5 });
     assert.equal(queued.status, 201, JSON.stringify(queued.json));
+    const adaptive = await h.api('/sweeps', { name: 'phone width test, adaptive', phi: 0.5, numerics: SWEEP.numerics, adaptive: ADAPTIVE });
+    assert.equal(adaptive.status, 201, JSON.stringify(adaptive.json));
     const localRun = (await h.api(`/jobs?sweep=${local.json.id}&state=succeeded&limit=1`)).json.jobs[0].id;
     const imported = (await h.api('/sweeps')).json.sweeps.find((s) => s.imported);
     const importedRun = (await h.api(`/jobs?sweep=${imported.id}&limit=1`)).json.jobs[0].id;
@@ -102,6 +107,7 @@ test('every page at 390 x 844: no sideways scroll, nothing past the edge, the na
         for (const d of await page.locator('details.advanced').all()) await d.evaluate((e) => { e.open = true; });
       }],
       ['labels', '#/labels', () => page.locator('table.audit').waitFor()],
+      ['plan', `#/plan?sweep=${adaptive.json.id}`, () => page.locator('#pn-body table.pn-levels').waitFor()],
     ];
     const failures = [];
     for (const [name, hash, ready] of pages) {
