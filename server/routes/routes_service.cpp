@@ -1,9 +1,13 @@
 // Service routes: health, metrics, the OpenAPI document, presets, the dashboard's static files,
 // JSON answers for unknown API paths, and the request log.
+#include <functional>
+#include <string>
+
 #include <spdlog/spdlog.h>
 
 #include "compaction/presets.hpp"
 #include "compaction/result.hpp"
+#include "http/answer_cache.hpp"
 #include "http/endpoints.hpp"
 #include "http/http_server.hpp"
 #include "http/http_util.hpp"
@@ -156,6 +160,19 @@ void register_service_routes(httplib::Server& server, App& app) {
     spdlog::warn("static files: {} is not a directory; the dashboard is not served",
                  app.options.web_dir);
   }
+  // The dashboard's files carry a tag of their content and are revalidated at each use
+  // (no-cache): a visit after the first costs a 304 a file, and an upgraded file is never
+  // served stale.
+  server.set_file_request_handler([](const httplib::Request& req, httplib::Response& res) {
+    const std::string tag = fmt::format("\"{:016x}-{:x}\"", std::hash<std::string>{}(res.body),
+                                        res.body.size());
+    res.set_header("ETag", tag);
+    res.set_header("Cache-Control", "no-cache");
+    if (if_none_match_names(req.get_header_value("If-None-Match"), tag)) {
+      res.status = 304;
+      res.body.clear();
+    }
+  });
 }
 
 void register_all_routes(HttpServer& server, App& app) {
