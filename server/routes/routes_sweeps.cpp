@@ -175,6 +175,9 @@ void register_sweep_routes(httplib::Server& server, App& app) {
                  if (!file) throw ApiError(404, "id", "no such sweep");
                  res.set_header("Content-Disposition",
                                 "attachment; filename=\"sweep-" + std::to_string(id) + ".export.json\"");
+                 // The file's size as saved: Content-Length is the compressed body's when the
+                 // client accepts gzip, so the dashboard states this one before a download.
+                 res.set_header("X-File-Size", std::to_string(file->size()));
                  res.status = 200;
                  res.set_content(*file, "application/json");
                  return;

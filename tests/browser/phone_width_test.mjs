@@ -99,6 +99,7 @@ test('every page at 390 x 844: no sideways scroll, nothing past the edge, the na
       ['run-local', `#/run/${localRun}`, () => page.waitForSelector('#class-box .class-main, #class-box .features-box')],
       ['run-imported', `#/run/${importedRun}`, () => page.waitForSelector('#run-import:not([hidden])')],
       ['runs', '#/runs', () => page.waitForSelector('table.rt tbody tr')],
+      ['compare', `#/compare?ids=${localRun},${importedRun}`, () => page.locator('#cmp-table').waitFor()],
       ['plots', '#/plots', () => page.waitForSelector('#pl-plot canvas')],
       ['bands', '#/bands', () => page.waitForTimeout(300)],
       ['sweeps', '#/sweeps', async () => {

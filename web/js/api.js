@@ -82,6 +82,21 @@ export const api = {
   clearLabel: (id, body) => request('DELETE', `/jobs/${id}/label`, body),
   labelAudit: (limit = 200) => request('GET', `/labels/audit?limit=${limit}`),
   exportUrl: (id, format) => `${BASE}/sweeps/${id}/export?format=${format}`,
+  // The file another server imports (docs/service.md, "Merging maps"); artifacts: 'run_page'
+  // (with the runs' files) or 'none' (results and provenance only).
+  archiveUrl: (id, artifacts) => `${BASE}/sweeps/${id}/export?format=archive&artifacts=${artifacts}`,
+  // The size in bytes of the file a GET of url saves, from a HEAD: its X-File-Size (the
+  // server's, as Content-Length is the compressed body's when gzip is accepted), else its
+  // Content-Length; null when neither is given.
+  downloadSize: async (url) => {
+    const res = await fetch(url, { method: 'HEAD', cache: 'no-store' });
+    if (!res.ok) throw new ApiError(res.status, null);
+    for (const h of ['X-File-Size', 'Content-Length']) {
+      const n = Number(res.headers.get(h));
+      if (res.headers.has(h) && Number.isFinite(n)) return n;
+    }
+    return null;
+  },
   artifactUrl: (id, name) => `${BASE}/jobs/${id}/artifacts/${encodeURIComponent(name)}`,
 };
 

@@ -3,7 +3,7 @@
 // list of sweeps with progress (against the budget of an adaptive one), cancel and export.
 import { api, submitToken, setSubmitToken } from '../api.js';
 import { validateSweep, validateAdaptive, formFieldOf } from '../sweepform.js';
-import { when, escapeHtml, duration } from '../format.js';
+import { when, escapeHtml, duration, bytes } from '../format.js';
 
 const POLL_MS = 2500;
 const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'structure', 'seeds', 'rep-n', 'rep-pert', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
@@ -124,6 +124,8 @@ function createPage(root) {
     estimateTimer: null, estimateSeq: 0, // the estimate waiting for the edits to stop, and the last asked
     alive: true,
     timer: null, // the next refresh of the list
+    archiveOpen: new Set(), // the sweeps whose "Archive" is open (the list is redrawn at each poll)
+    archiveSizes: new Map(), // "id:succeeded" -> { run_page, none }: bytes, null when unknown
   };
 }
 
@@ -330,8 +332,9 @@ async function refresh(page) {
     if (!sweeps.length) {
       list.innerHTML = '<p class="muted">No sweeps yet. The form creates one.</p>';
     } else {
-      list.innerHTML = sweepsTableHtml(sweeps, total);
+      list.innerHTML = sweepsTableHtml(page, sweeps, total);
       list.querySelectorAll('button.cancel').forEach((b) => b.addEventListener('click', () => cancel(page, Number(b.dataset.id))));
+      list.querySelectorAll('details.archive').forEach((d) => d.addEventListener('toggle', () => sizeArchive(page, d)));
     }
   } catch (e) {
     $('sweep-list').innerHTML = `<p class="error">Could not load the sweeps: ${escapeHtml(e.message)}</p>`;
@@ -400,11 +403,11 @@ function bar(c) {
 }
 
 // The list of sweeps: name, grid, progress with counts, exports and Cancel for active sweeps.
-function sweepsTableHtml(sweeps, total) {
-  return `<table class="sweeps"><thead><tr><th>sweep</th><th>grid</th><th class="wide">progress</th><th></th></tr></thead><tbody>${sweeps.map(sweepRowHtml).join('')}</tbody></table>${total > sweeps.length ? `<p class="muted">showing the newest ${sweeps.length} of ${total}</p>` : ''}`;
+function sweepsTableHtml(page, sweeps, total) {
+  return `<table class="sweeps"><thead><tr><th>sweep</th><th>grid</th><th class="wide">progress</th><th></th></tr></thead><tbody>${sweeps.map((s) => sweepRowHtml(page, s)).join('')}</tbody></table>${total > sweeps.length ? `<p class="muted">showing the newest ${sweeps.length} of ${total}</p>` : ''}`;
 }
 
-function sweepRowHtml(s) {
+function sweepRowHtml(page, s) {
   const c = s.counts;
   const phi = s.phis?.[0] ?? 0.4;
   const rq = s.request;
@@ -419,7 +422,47 @@ function sweepRowHtml(s) {
     <td class="small">${grid}<div class="muted">φ = ${(s.phis || []).join(', ')}</div>${reps}</td>
     <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
     <td class="actions">${ad ? `<a href="#/plan?sweep=${s.id}" class="plan-link" title="the adaptive planner's state, budgets and next runs">plan</a> ` : ''}<a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
+      ${archiveHtml(page, s)}
       ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
+}
+
+// The sweep's archive, the file another server imports (docs/service.md, "Merging maps"), in its
+// two forms with their sizes stated before download: asked by HEAD when "Archive" is opened, and
+// kept while the sweep's count of succeeded runs stays.
+function archiveHtml(page, s) {
+  const key = `${s.id}:${s.counts.succeeded}`;
+  const sizes = page.archiveSizes.get(key) || {};
+  const form = (artifacts, what, title) => `<li><a href="${api.archiveUrl(s.id, artifacts)}" download title="${title}">${what}</a>
+    <span class="muted" data-size="${artifacts}">${sizeText(sizes[artifacts])}</span></li>`;
+  return `<details class="archive" data-id="${s.id}" data-key="${key}"${page.archiveOpen.has(s.id) ? ' open' : ''}>
+    <summary>Archive</summary><ul class="archive-forms">
+    ${form('run_page', 'with the runs\' files', 'each run with its files but the particle snapshots: an imported run shows the same plots')}
+    ${form('none', 'results only', 'the results and their provenance, without files: a map to commit or mail')}</ul></details>`;
+}
+
+function sizeText(n) {
+  if (n === undefined) return 'sizing…';
+  return n === null ? 'size unknown' : bytes(n);
+}
+
+async function sizeArchive(page, details) {
+  const id = Number(details.dataset.id);
+  const key = details.dataset.key;
+  if (!details.open) { page.archiveOpen.delete(id); return; }
+  page.archiveOpen.add(id);
+  if (page.archiveSizes.has(key)) return;
+  const sizes = {};
+  page.archiveSizes.set(key, sizes);
+  for (const artifacts of ['none', 'run_page']) {
+    try {
+      sizes[artifacts] = await api.downloadSize(api.archiveUrl(id, artifacts));
+    } catch {
+      sizes[artifacts] = null;
+    }
+    // The list may have been redrawn meanwhile: write into the row shown now.
+    const el = page.$('sweep-list')?.querySelector(`details.archive[data-key="${key}"] [data-size="${artifacts}"]`);
+    if (el) el.textContent = sizeText(sizes[artifacts]);
+  }
 }
 
 // An imported sweep's mark: the server it came from and its sweep there (the sweep's
