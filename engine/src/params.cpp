@@ -31,6 +31,9 @@ double buckling_onset_R(double phi) {
 }
 double nonreflecting_band_speed(double phi) { return 1.0 / (1.0 - phi); }
 double strut_fraction_3d(double phi) { return 1.0 - std::cbrt(1.0 - phi); }
+double strut_fraction(double phi, Geometry geometry) {
+  return geometry == Geometry::pseudo1d_3d ? strut_fraction_3d(phi) : strut_fraction(phi);
+}
 
 namespace random_structure {
 double thinnest_strut_fraction(double phi) { return kMinStrut * strut_fraction(phi); }

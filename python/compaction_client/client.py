@@ -422,10 +422,10 @@ class Client:
         """The run table (GET /jobs?format=table, docs/service.md "The run table"): a row per
         run with its columns (id, sweep, state, S, R, phi, preset, cells_per_unit,
         cells_per_strut, seed, point_id, status, class, confidence, runner_up, n_reflections,
-        band_speed_ratio, human_label, label, source_database, source_job), every page read by
-        its cursor. sort: a column, "-column" descending. limit: the most rows (None: all).
-        filters: the table's parameters by name (sweep, point, state, phi, cells_per_unit,
-        preset, label, human_label, imported, source, q, S_min, ...); cls for class; a list for
+        band_speed_ratio, human_label, label, source_database, source_job, geometry), every page
+        read by its cursor. sort: a column, "-column" descending. limit: the most rows (None:
+        all). filters: the table's parameters by name (sweep, point, state, phi, cells_per_unit,
+        preset, geometry, label, human_label, imported, source, q, S_min, ...); cls for class; a list for
         the comma-separated ones (state=["failed", "cancelled"]); S, R, confidence,
         n_reflections, band_speed_ratio as (min, max), None for an open end. The server judges
         the values (ApiError 422 naming the parameter). A pandas DataFrame (ImportError without

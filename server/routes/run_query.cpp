@@ -98,6 +98,16 @@ const std::vector<Param>& params() {
          r.query.filter.preset = choice_of(q, n, [](const std::string& s) { return find_preset(s) != nullptr; },
                                            preset_names());
        }},
+      {"geometry",
+       [](const httplib::Request& q, const char* n, JobsRequest& r) {
+         for (const std::string& s : list_of(q, n)) {
+           compaction::Geometry g;
+           if (!compaction::parse(s, g)) {
+             throw ApiError(422, n, "must be pseudo1d, full2d or pseudo1d_3d (comma-separated)");
+           }
+           r.query.filter.geometries.push_back(s);
+         }
+       }},
       {"class", [](const httplib::Request& q, const char* n, JobsRequest& r) { r.query.filter.cls = labels_of(q, n); }},
       {"label", [](const httplib::Request& q, const char* n, JobsRequest& r) { r.query.filter.label = labels_of(q, n); }},
       {"human_label", [](const httplib::Request& q, const char* n, JobsRequest& r) { r.query.filter.human_label = labels_of(q, n); }},

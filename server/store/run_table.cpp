@@ -38,9 +38,20 @@ const std::vector<ColumnSource>& sources() {
       {{"label", T::text, true}, "label"},
       {{"source_database", T::text, true}, "source_database"},
       {{"source_job", T::integer, true}, "source_job"},
+      {{"geometry", T::text, true}, "geometry"},
   };
   return all;
 }
+
+}  // namespace
+
+double cells_per_strut(std::int64_t cells_per_unit, double phi, const std::string& geometry) {
+  Geometry g = Geometry::pseudo1d;
+  parse(geometry, g);
+  return static_cast<double>(cells_per_unit) * strut_fraction(phi, g);
+}
+
+namespace {
 
 std::size_t index_of(std::string_view name) {
   const auto i = run_column(name);
@@ -133,6 +144,7 @@ Where filter_sql(const RunFilter& f) {
     w.add("cells_per_unit IN (" + placeholders(f.cells_per_unit.size()) + ")", std::move(params));
   }
   add_choice(w, "preset", f.preset);
+  add_choice(w, "geometry", {f.geometries});
   add_choice(w, "class", f.cls);
   add_choice(w, "label", f.label);
   add_choice(w, "human_label", f.human_label);
@@ -202,15 +214,16 @@ class RowReader {
       }
       ++k;
     }
-    const double phi = std::get<double>(row.values[phi_]);
-    const auto cells = std::get<std::int64_t>(row.values[cells_per_unit_]);
-    row.values[cells_per_strut_] = static_cast<double>(cells) * compaction::strut_fraction(phi);
+    const auto* geometry = std::get_if<std::string>(&row.values[geometry_]);
+    row.values[cells_per_strut_] =
+        cells_per_strut(std::get<std::int64_t>(row.values[cells_per_unit_]),
+                        std::get<double>(row.values[phi_]), geometry ? *geometry : "pseudo1d");
     return row;
   }
 
  private:
   const std::size_t phi_ = index_of("phi"), cells_per_unit_ = index_of("cells_per_unit"),
-                    cells_per_strut_ = index_of("cells_per_strut");
+                    cells_per_strut_ = index_of("cells_per_strut"), geometry_ = index_of("geometry");
 };
 
 std::int64_t count_rows(sqlite::Database& db, const Sql& filter) {
@@ -280,7 +293,7 @@ std::optional<std::size_t> run_column(std::string_view name) {
 bool RunFilter::empty() const {
   return !sweep && !point && states.empty() && !phi && !S.any() && !R.any() && !phi_range.any() &&
          !confidence.any() && !n_reflections.any() && !band_speed_ratio.any() &&
-         cells_per_unit.empty() && !preset.given() && !cls.given() &&
+         cells_per_unit.empty() && !preset.given() && geometries.empty() && !cls.given() &&
          !label.given() && !human_label.given() && !imported && !source && !text;
 }
 

@@ -32,8 +32,11 @@ struct RunColumn {
 // The table's columns in the order of its rows: id (the job), sweep (the first sweep that holds
 // it), state, S, R, phi, preset, cells_per_unit, cells_per_strut, seed, point_id, status,
 // class, confidence, runner_up, n_reflections, band_speed_ratio, human_label, label (the one
-// that counts), source_database, source_job.
+// that counts), source_database, source_job, geometry.
 const std::vector<RunColumn>& run_columns();
+// Grid cells across the thinnest strut of a run: cells_per_unit times its geometry's strut
+// fraction (compaction::strut_fraction; geometry as the scene spells it, unknown: the 2D rule).
+double cells_per_strut(std::int64_t cells_per_unit, double phi, const std::string& geometry);
 // The index of a column by its name, or nullopt.
 std::optional<std::size_t> run_column(std::string_view name);
 inline constexpr std::size_t kRunIdColumn = 0;
@@ -68,6 +71,7 @@ struct RunFilter {
   NumberRange S, R, phi_range, confidence, n_reflections, band_speed_ratio;
   std::vector<std::int64_t> cells_per_unit;  // any of these grids
   TextChoice preset, cls, label, human_label;
+  std::vector<std::string> geometries;  // of any of these geometries (to_string(Geometry))
   std::optional<bool> imported;        // a result computed on another server
   std::optional<std::string> source;   // the source database id starts with this
   std::optional<std::string> text;     // in a sweep's name, the source id, a label's reason or by

@@ -9,6 +9,7 @@
 #include "plan/cost_model.hpp"
 #include "plan/map_points.hpp"
 #include "plan/planner.hpp"
+#include "store/run_table.hpp"
 #include "views/json_opt.hpp"
 #include "views/label_views.hpp"
 
@@ -175,17 +176,19 @@ json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
 }
 
 json job(const JobRecord& j) {
+  json scene = json::parse(j.scene);
+  const double strut = cells_per_strut(j.cells_per_unit, j.phi, scene.value("geometry", "pseudo1d"));
   json out = {{"id", j.id},
               {"state", j.state},
               {"S", j.S},
               {"R", j.R},
               {"phi", j.phi},
               {"cells_per_unit", j.cells_per_unit},
-              {"cells_per_strut", j.cells_per_unit * strut_fraction(j.phi)},
+              {"cells_per_strut", strut},
               {"eps_end", j.eps_end},
               {"point_id", j.point_id},
               {"engine_version", j.engine_version},
-              {"scene", json::parse(j.scene)},
+              {"scene", std::move(scene)},
               {"priority", j.priority},
               {"attempts", j.attempts},
               {"max_attempts", j.max_attempts},
@@ -254,12 +257,6 @@ json model(double phi) {
 
 namespace {
 
-// Grid cells across a run's strut: the square hole's strut in 2D, the cubic hole's in 3D.
-double strut_cells(std::int64_t cells_per_unit, double phi, const std::string& geometry) {
-  const bool cube = geometry == to_string(Geometry::pseudo1d_3d);
-  return static_cast<double>(cells_per_unit) * (cube ? strut_fraction_3d(phi) : strut_fraction(phi));
-}
-
 // A reading's spread over a point's replicates: {mean, n, sd}, or null when no run has it.
 void spread_value(JsonText& t, const std::optional<Spread>& s) {
   if (!s) {
@@ -287,7 +284,7 @@ void point_summary(JsonText& t, const MapPoint& p) {
   spread_value(t, p.band_speed_ratio);
   t.key("band_speed_transit");
   spread_value(t, p.band_speed_transit);
-  t.key("cells_per_strut").value(strut_cells(p.cells_per_unit, p.phi, p.geometry));
+  t.key("cells_per_strut").value(cells_per_strut(p.cells_per_unit, p.phi, p.geometry));
   t.key("cells_per_unit").value(p.cells_per_unit);
   t.key("eps_end").value(p.eps_end);
   t.key("finished").value(static_cast<std::int64_t>(k.finished));
@@ -345,7 +342,7 @@ std::string phase_map(double phi, const std::vector<PhaseMapPoint>& points) {
     t.key("band_speed_ratio").value(p.band_speed_ratio);
     t.key("band_speed_transit").value(p.band_speed_transit);
     t.key("band_speed_transit_error").value(p.band_speed_transit_error);
-    t.key("cells_per_strut").value(strut_cells(p.cells_per_unit, p.phi, p.geometry));
+    t.key("cells_per_strut").value(cells_per_strut(p.cells_per_unit, p.phi, p.geometry));
     t.key("cells_per_unit").value(p.cells_per_unit);
     t.key("class").value(p.cls);
     t.key("confidence").value(p.confidence);

@@ -2,7 +2,8 @@
 the same point. The server takes the key, estimates the 3D run in three dimensions, a real
 worker runs it with the real compaction-run (one velocity field whatever the preset asks, no
 snapshots or movie), and the phase map draws each geometry on its own: the 2D map by default,
-the 3D one with ?geometry=pseudo1d_3d, a bad geometry refused with 422 naming it."""
+the 3D one with ?geometry=pseudo1d_3d, a bad geometry refused with 422 naming it; the run table
+and the job give the 3D run its cubic hole's strut, and the run table filters by geometry."""
 import signal
 
 from e2e_lib import Env, bin_dir_from_args, check, stop
@@ -68,6 +69,14 @@ check(round(answer_3d["points"][0]["cells_per_strut"], 3) == 1.253 and
       "the 3D run's strut: %s" % answer_3d["points"][0]["cells_per_strut"])
 check(round(env.get("/api/v1/phase-map?phi=0.4")["points"][0]["cells_per_strut"], 3) == 1.803,
       "the 2D run's strut")
+check(round(detail["cells_per_strut"], 3) == 1.253, "GET /jobs/{id}: the 3D run's strut: %s" % detail["cells_per_strut"])
+table = env.get("/api/v1/jobs?format=table&geometry=pseudo1d_3d")
+check(table["total"] == 1 and table["rows"][0]["id"] == job3["id"] and
+      table["rows"][0]["geometry"] == "pseudo1d_3d" and round(table["rows"][0]["cells_per_strut"], 3) == 1.253,
+      "the run table's 3D filter keeps the 3D run with its strut: %s" % table)
+table_2d = env.get("/api/v1/jobs?format=table&geometry=pseudo1d")
+check(table_2d["total"] == 1 and round(table_2d["rows"][0]["cells_per_strut"], 3) == 1.803,
+      "the run table's 2D run: %s" % table_2d)
 regions = env.get("/api/v1/phase-map/regions?phi=0.4&geometry=pseudo1d_3d")
 check(regions["runs"] <= 1, "the 3D regions count the 3D runs only: %s" % regions["runs"])
 check(env.get("/api/v1/phase-map?phi=0.4&geometry=full2d")["points"] == [], "no full2d runs")

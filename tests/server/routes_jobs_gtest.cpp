@@ -294,6 +294,8 @@ TEST_F(RunsApi, EveryBadParameterIsRefusedNamingIt) {
       {"cells_per_unit=1", "cells_per_unit"},
       {"cells_per_unit=8.5", "cells_per_unit"},
       {"preset=slow", "preset"},
+      {"geometry=cube", "geometry"},
+      {"geometry=pseudo1d,", "geometry"},
       {"class=g", "class"},
       {"label=ab", "label"},
       {"human_label=yes", "human_label"},
@@ -359,7 +361,7 @@ TEST_F(RunsApi, LimitsServeTheTablesRules) {
   EXPECT_EQ(l["jobs"]["columns"], columns);
   EXPECT_EQ(l["jobs"]["sort"], sortable);
   // Every parameter it lists is read: an empty value is refused as a bad value of it.
-  EXPECT_EQ(l["jobs"]["parameters"].size(), 29u);
+  EXPECT_EQ(l["jobs"]["parameters"].size(), 30u);
   for (const json& p : l["jobs"]["parameters"]) {
     auto r = client->Get(("/api/v1/jobs?" + p.get<std::string>() + "=").c_str());
     ASSERT_TRUE(r);

@@ -32,7 +32,7 @@ std::vector<std::string> dump(const std::string& path) {
       " || ',' || quote(seed) || ',' || quote(preset) || ',' || quote(status) || ',' || quote(class) || ',' || quote(confidence) || ','"
       " || quote(runner_up) || ',' || quote(n_reflections) || ',' || quote(band_speed_ratio)"
       " || ',' || quote(source_database) || ',' || quote(source_job) || ',' || quote(human_label)"
-      " || ',' || quote(label) FROM run_rows ORDER BY job_id");
+      " || ',' || quote(label) || ',' || quote(geometry) FROM run_rows ORDER BY job_id");
   std::vector<std::string> rows;
   while (q.step()) rows.push_back(q.text(0));
   return rows;
@@ -67,9 +67,10 @@ TEST(RunTable, TheTriggersKeepEachRowAsTheBackfillReadsItFromItsOwners) {
         "DROP TRIGGER run_rows_job; DROP TRIGGER run_rows_point; DROP TRIGGER run_rows_state;"
         "DROP TRIGGER run_rows_sweep; DROP TRIGGER run_rows_result; DROP TRIGGER run_rows_label_set;"
         "DROP TRIGGER run_rows_label_changed; DROP TRIGGER run_rows_label_cleared;"
-        "DROP TABLE run_rows; DELETE FROM schema_migrations WHERE version = 12;");
+        "DROP TRIGGER run_rows_geometry;"
+        "DROP TABLE run_rows; DELETE FROM schema_migrations WHERE version IN (12, 14);");
   }
-  { Store again(path, config()); }  // applies 0012: the backfill
+  { Store again(path, config()); }  // applies 0012 and 0014: the backfill
   EXPECT_EQ(dump(path), kept);
 }
 
@@ -146,6 +147,41 @@ TEST(RunTable, ARunsPresetIsTheOneItsSceneWasMadeFrom) {
   RunQuery none = all_rows();
   none.filter.preset.none = true;
   EXPECT_EQ(s.runs.page(none).total, 7);
+}
+
+TEST(RunTable, ARowHasItsScenesGeometryAndItsStrutByThatGeometrysRule) {
+  TempDir dir;
+  Store s(dir.file("runs.db"), config());
+  create(s, {{"name", "2D"}, {"phi", 0.4}, {"S", 0.01}, {"R", 1e-3}, {"numerics", numerics({{"cells_per_unit", 8}})}});
+  create(s, {{"name", "3D"}, {"phi", 0.4}, {"S", 0.01}, {"R", 1e-3},
+             {"numerics", numerics({{"cells_per_unit", 8}, {"geometry", "pseudo1d_3d"}})}});
+  create(s, {{"name", "full"}, {"phi", 0.4}, {"S", 0.01}, {"R", 1e-3},
+             {"numerics", numerics({{"cells_per_unit", 8}, {"geometry", "full2d"}})}});
+  const RunPage<RunRow> page = s.runs.page(all_rows());
+  ASSERT_EQ(page.items.size(), 3u);
+  const auto geometry = [&](std::size_t i) { return page.items[i].values[column("geometry")]; };
+  const auto strut = [&](std::size_t i) { return std::get<double>(page.items[i].values[column("cells_per_strut")]); };
+  EXPECT_EQ(geometry(0), RunValue("pseudo1d"));
+  EXPECT_EQ(geometry(1), RunValue("pseudo1d_3d"));
+  EXPECT_EQ(geometry(2), RunValue("full2d"));
+  // 8 (1 - sqrt(0.6)) = 1.803 across the square hole's strut, 8 (1 - 0.6^(1/3)) = 1.253 across
+  // the cubic hole's (the strut the engine meshes, SceneParams::grid_cells_per_strut).
+  EXPECT_NEAR(strut(0), 1.803, 5e-4);
+  EXPECT_NEAR(strut(1), 1.253, 5e-4);
+  EXPECT_NEAR(strut(2), 1.803, 5e-4);
+  compaction::SceneParams p3 = compaction::scene_defaults(compaction::Geometry::pseudo1d_3d);
+  p3.phi = 0.4;
+  p3.cells_per_unit = 8;
+  EXPECT_DOUBLE_EQ(strut(1), p3.grid_cells_per_strut());
+
+  RunQuery q = all_rows();
+  q.filter.geometries = {"pseudo1d_3d", "full2d"};
+  const RunPage<RunRow> some = s.runs.page(q);
+  ASSERT_EQ(some.total, 2);
+  EXPECT_EQ(some.items[0].id(), page.items[1].id());
+  EXPECT_EQ(some.items[1].id(), page.items[2].id());
+  q.filter.geometries = {"pseudo1d"};
+  EXPECT_EQ(s.runs.page(q).total, 1);
 }
 
 TEST(RunTable, TheLabelIsTheOneThatCounts) {

@@ -4,6 +4,7 @@
 // controls carry the API's parameter names (data-name); ids start with rt-.
 import { CLASSES } from './classes.js';
 import { escapeHtml } from './format.js';
+import { GEOMETRIES } from './geometries.js';
 import { JOB_STATES, LETTERS, filterNames, rangeNames } from './runquery.js';
 
 // The ranges' labels (a range not listed is labelled by its name).
@@ -36,6 +37,7 @@ export function filterFormHtml(limits, presets) {
     parts.push(field('sweep', 'Sweep', '<select id="rt-sweep" data-name="sweep"><option value="">all sweeps</option></select>'));
   }
   if (has('preset')) parts.push(`<div class="f rt-f" data-field="preset"><label>Preset <span class="f-hint">(numerics)</span></label>${chipsHtml('preset', [...presets.map((p) => [p, p]), ['none', 'own numerics']])}${errHtml('preset')}</div>`);
+  if (has('geometry')) parts.push(`<div class="f rt-f" data-field="geometry"><label>Column <span class="f-hint">(geometry)</span></label>${chipsHtml('geometry', GEOMETRIES)}${errHtml('geometry')}</div>`);
   if (has('cells_per_unit')) {
     const { lo, hi } = limits.scene.cells_per_unit;
     parts.push(field('cells_per_unit', 'Cells per unit cell', `<input type="text" id="rt-cells_per_unit" data-name="cells_per_unit" inputmode="numeric" placeholder="e.g. 8,20">`, `resolution, ${lo} to ${hi}; several comma-separated`));

@@ -103,6 +103,9 @@ inline constexpr Range movie_d_eps{0.001, 0.5};  // when set (> 0); 0: no movie;
 double strut_fraction(double phi);
 // The same between two cubic holes of a 3D structure: 1 - (1 - phi)^(1/3).
 double strut_fraction_3d(double phi);
+// The thinnest strut of a geometry's regular structure: the cubic holes' of the 3D column, the
+// square holes' of the 2D ones.
+double strut_fraction(double phi, Geometry geometry);
 
 // What the model predicts from phi alone (the paper), served with the phase map:
 // the struts' aspect ratio a = t / l, thickness over length, (1 - sqrt(1 - phi)) / sqrt(1 - phi);
@@ -182,10 +185,7 @@ struct SceneParams {
   double plate_speed() const { return S * bar_wave_speed(); }             // V  [m/s]
   double unit_cell() const { return h0 / n_rows; }                        // L  [m]
   double hole_side() const;          // L sqrt(1 - phi); pseudo1d_3d: L (1 - phi)^(1/3) [m]
-  double strut_fraction() const {
-    return geometry == Geometry::pseudo1d_3d ? strut_fraction_3d(phi)
-                                             : compaction::strut_fraction(phi);
-  }
+  double strut_fraction() const { return compaction::strut_fraction(phi, geometry); }
   int grid_cells_per_unit() const;   // cells_per_unit, or derived from cells_per_strut [-]
   double grid_spacing() const { return unit_cell() / grid_cells_per_unit(); }  // dx   [m]
   double grid_cells_per_strut() const { return grid_cells_per_unit() * strut_fraction(); }

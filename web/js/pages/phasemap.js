@@ -16,6 +16,7 @@ import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
 import { setParams } from '../router.js';
+import { GEOMETRIES } from '../geometries.js';
 import { plotView, spacingRadii, viewOf, viewParams, wireView } from '../mapview.js';
 import { FINEST, numericsCaption, ofNumerics, placeKey } from '../mapnumerics.js';
 import { addedByPlanner, planCaption } from '../mapplan.js';
@@ -50,7 +51,7 @@ function pageHtml() {
         <label class="field">Numerics
           <select id="map-cpu" aria-label="numerics preset"><option value="finest">finest run per point</option><option value="all">all resolutions</option></select></label>
         <label class="field">Column
-          <select id="map-geometry" aria-label="geometry"><option value="">2D pseudo-1D</option><option value="pseudo1d_3d">3D pseudo-1D</option><option value="full2d">full 2D</option></select></label>
+          <select id="map-geometry" aria-label="geometry">${GEOMETRIES.map(([g, name]) => `<option value="${g === 'pseudo1d' ? '' : g}">${name}</option>`).join('')}</select></label>
         <label class="field">Sweep
           <select id="map-sweep" aria-label="sweep"><option value="">all sweeps</option></select></label>
         <label class="check"><input type="checkbox" id="map-buckling"><span>buckling onset <i>R</i><sub>crit</sub> = π²<i>a</i>²/12</span></label>

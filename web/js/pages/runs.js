@@ -9,6 +9,7 @@ import { api, ApiError } from '../api.js';
 import { CLASSES, inkOn } from '../classes.js';
 import { MAX_COMPARE, compareHash, picked, setPicked } from '../compareset.js';
 import { escapeHtml, fixed, sci } from '../format.js';
+import { geometryName } from '../geometries.js';
 import { parseHash } from '../router.js';
 import { fillFilterForm, fillSweepSelect, filterFormHtml, readFilterForm, showFilterErrors } from '../runfilters.js';
 import {
@@ -26,6 +27,7 @@ const HEADS = {
   band_speed_ratio: ['<i>c</i><sub>b</sub>/<i>V</i>', 'band speed over the piston speed'],
   human_label: ['human', "a person's label"], label: ['label', 'the label that counts: a person\'s, else the classifier\'s'],
   source_database: ['source', 'the database that computed the result (imported runs)'], source_job: ['source job'],
+  geometry: ['column', "the scene's geometry: the 2D pseudo-1D column, full 2D or the 3D pseudo-1D column"],
 };
 
 const PAGE_SIZES = [25, 50, 100, 200, 500, 1000];
@@ -52,6 +54,7 @@ function cellHtml(col, v) {
     case 'class': case 'runner_up': case 'human_label': case 'label': return classDot(v);
     case 'source_database': return `<span class="mono" title="${escapeHtml(v)}">${escapeHtml(v.slice(0, 8))}</span>`;
     case 'status': return v === 'unstable' ? '<span class="bad">unstable</span>' : escapeHtml(v);
+    case 'geometry': return escapeHtml(geometryName(v));
     default: return escapeHtml(typeof v === 'number' ? String(v) : v);
   }
 }
