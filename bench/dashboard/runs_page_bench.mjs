@@ -23,15 +23,13 @@ import { cpus, loadavg } from 'node:os';
 import { execFileSync } from 'node:child_process';
 import { join, relative } from 'node:path';
 import { Harness, REPO, waitFor } from '../../tests/browser/lib/harness.mjs';
+import { f0, median, p90, parseArgs } from './stats.mjs';
 
-const args = Object.fromEntries(process.argv.slice(2).reduce((a, x, i, all) => (x.startsWith('--') ? [...a, [x.slice(2), all[i + 1]]] : a), []));
+const args = parseArgs(process.argv.slice(2));
 if (!args.db) { console.error('usage: runs_page_bench.mjs --db FILLED.db [--loads 7] [--out FILE]'); process.exit(2); }
 const LOADS = Number(args.loads || 7);
 const OUT = args.out || join(REPO, 'bench/results/runs_page.md');
 
-const median = (a) => { const s = [...a].sort((x, y) => x - y); const m = s.length >> 1; return s.length % 2 ? s[m] : (s[m - 1] + s[m]) / 2; };
-const p90 = (a) => { const s = [...a].sort((x, y) => x - y); return s[Math.min(s.length - 1, Math.ceil(0.9 * s.length) - 1)]; };
-const f0 = (v) => v.toFixed(0);
 
 // Runs in the page: times an action until the table shows its answer.
 function timeAction({ kind, selector, value }) {
