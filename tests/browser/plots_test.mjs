@@ -176,6 +176,7 @@ test('the Plots page: rows of the filter, positions, log/linear, Fig. 3, tooltip
     for (const id of p.ids) { const n = Math.min(6, byId.get(id).n_reflections); nr[`n${n}`] = (nr[`n${n}`] || 0) + 1; }
     assert.deepEqual(Object.fromEntries(p.legend.map((e) => [e.key, e.count])), nr, 'the legend counts N_r');
     assert.equal(await page.locator('.rt-chips[data-name="class"] input[value="a"]').isChecked(), true);
+    assert.equal(await page.locator('#pl-runs').getAttribute('href'), '#/runs?class=a,b', 'the table of the plotted filters');
     await shot(page, '71-plots-fig3');
 
     // SVG export: parses, one marker per plotted run (its data-job); PNG: a PNG twice as wide.

@@ -102,9 +102,12 @@ async function fetchRows(qs) {
   return { csv: text, total: Number(res.headers.get('X-Total-Count')) };
 }
 
-// The page's hash: the filters (the API's names and order), then the plot.
+// The table's filters as text (the API's names and order, commas as written).
+const filtersText = (page) => sharedQuery({ ...page.query, sort: '' }, page.limits).replace(/%2C/g, ',');
+
+// The page's hash: the filters, then the plot.
 function pageHash(page) {
-  const s = new URLSearchParams(sharedQuery({ ...page.query, sort: '' }, page.limits));
+  const s = new URLSearchParams(filtersText(page));
   for (const k of PLOT_KEYS) s.set(k, page.spec[k]);
   return `#/plots?${s.toString().replace(/%2C/g, ',')}`;
 }
@@ -114,7 +117,8 @@ function syncUrl(page, push) {
   const hash = pageHash(page);
   if (push && hash !== location.hash) history.pushState(null, '', hash);
   else history.replaceState(null, '', hash);
-  page.el.runs.href = `#/runs${sharedQuery({ ...page.query, sort: '' }, page.limits) ? `?${sharedQuery({ ...page.query, sort: '' }, page.limits).replace(/%2C/g, ',')}` : ''}`;
+  const f = filtersText(page);
+  page.el.runs.href = `#/runs${f ? `?${f}` : ''}`;
 }
 
 // The figure's size for the page's width and the window's height (as the band-speed page's).
@@ -308,7 +312,7 @@ function figureOf(page) {
   });
   // Categories as their markers; numbers as swatches.
   const legend = drawn.coloured.legend.map((e) => (e.cat ? { cat: e.cat, name: e.name, count: e.count } : { color: rgbOf(e.color), name: e.name, count: e.count }));
-  const filters = sharedQuery({ ...page.query, sort: '' }, page.limits).replace(/%2C/g, ',');
+  const filters = filtersText(page);
   return {
     plot, markers, regions: null, legend, drawMark: (ctx, m) => drawExportMark(ctx, m.cat.startsWith('colour ') ? { ...m, cat: null } : m),
     title: `${varText(spec.y)} against ${varText(spec.x)}`,
