@@ -58,19 +58,45 @@ void set_nonblocking(int fd) {
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags | O_NONBLOCK);
 }
 
-// Removes the Expect field line from the head in `in` (the front has met the expectation);
-// returns the bytes removed.
-std::size_t erase_expect_line(std::string& in, std::size_t head_end) {
-  std::size_t line = in.find("\r\n") + 2;  // past the request line
-  while (line < head_end - 2) {
-    const std::size_t next = in.find("\r\n", line) + 2;
-    if (next - line >= 7 && ::strncasecmp(in.data() + line, "expect:", 7) == 0) {
-      in.erase(line, next - line);
-      return next - line;
+// Replaces the first field line `name:` (lower case, with its colon) of the head in `in` by
+// `line` (a whole field line with its CRLF; empty: the field is removed); returns the head's
+// new end.
+std::size_t replace_field_line(std::string& in, std::size_t head_end, std::string_view name,
+                               std::string_view line) {
+  std::size_t at = in.find("\r\n") + 2;  // past the request line
+  while (at < head_end - 2) {
+    const std::size_t next = in.find("\r\n", at) + 2;
+    if (next - at >= name.size() && ::strncasecmp(in.data() + at, name.data(), name.size()) == 0) {
+      in.replace(at, next - at, line);
+      return head_end - (next - at) + line.size();
     }
-    line = next;
+    at = next;
   }
-  return 0;
+  return head_end;
+}
+
+// Whether an Accept-Encoding value (RFC 9110 12.5.3) takes gzip: "gzip" or "*" without q=0.
+bool accepts_gzip(std::string_view value) {
+  const auto trim = [](std::string_view t) {
+    while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
+    while (!t.empty() && (t.back() == ' ' || t.back() == '\t')) t.remove_suffix(1);
+    return t;
+  };
+  while (!value.empty()) {
+    const std::size_t comma = value.find(',');
+    std::string_view item = value.substr(0, comma);
+    value = comma == std::string_view::npos ? std::string_view() : value.substr(comma + 1);
+    const std::size_t semi = item.find(';');
+    const std::string_view coding = trim(item.substr(0, semi));
+    const bool gzip = coding.size() == 4 && ::strncasecmp(coding.data(), "gzip", 4) == 0;
+    if (!gzip && coding != "*") continue;
+    if (semi == std::string_view::npos) return true;
+    std::string_view q = trim(item.substr(semi + 1));
+    if (q.size() < 2 || (q[0] != 'q' && q[0] != 'Q') || q[1] != '=') return true;
+    q.remove_prefix(2);
+    return q.find_first_not_of("0.") != std::string_view::npos;  // q=0, 0.0, 0.000: refused
+  }
+  return false;
 }
 
 constexpr std::size_t kReadChunk = 16 << 10;
@@ -422,8 +448,15 @@ void ConnectionFront::head_complete(Connection& c) {
     return;
   }
   const std::size_t length = head.content_length.value_or(0);
+  // Answers are compressed with gzip or not at all: cpp-httplib 0.11 compresses brotli at its
+  // quality 11, about 1 MB/s, so a run table's 12.7 MB CSV took 15 s to a browser and its
+  // request was cut (bench/results/feature_plot.md); gzip does it at tens of MB/s.
+  if (const std::string* encodings = head.find("Accept-Encoding")) {
+    head_end = replace_field_line(c.in, head_end, "accept-encoding:",
+                                  accepts_gzip(*encodings) ? "Accept-Encoding: gzip\r\n" : "");
+  }
   if (head.expect_continue) {
-    head_end -= erase_expect_line(c.in, head_end);
+    head_end = replace_field_line(c.in, head_end, "expect:", "");
     if (c.in.size() < head_end + length) {
       static constexpr std::string_view go = "HTTP/1.1 100 Continue\r\n\r\n";
       if (::send(c.fd, go.data(), go.size(), MSG_DONTWAIT | MSG_NOSIGNAL) !=
