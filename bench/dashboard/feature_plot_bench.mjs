@@ -18,10 +18,8 @@
 // usage: node bench/dashboard/feature_plot_bench.mjs --db FILLED.db [--loads 7]
 //                     [--accept-encoding identity] [--out bench/results/feature_plot.md]
 // --accept-encoding replaces the browser's Accept-Encoding (CDP Network.setExtraHTTPHeaders):
-// chromium's "gzip, deflate, br, zstd" makes cpp-httplib 0.11 compress the streamed CSV with
-// brotli at its default quality 11, which at 12 MB outlasts the server's answer deadline (the
-// answer is cut after about 15 s; the page says "not loaded"); identity measures the page with
-// the CSV as the server writes it.
+// identity measures the page with the CSV as the server writes it, uncompressed; without it
+// chromium's own "gzip, deflate, br, zstd" gets gzip (the server never answers brotli).
 // The database is copied into a temporary folder (the server may write to it). Needs
 // scripts/install-browser-deps.sh (chromium, tests/browser/node_modules).
 import { copyFileSync, writeFileSync } from 'node:fs';

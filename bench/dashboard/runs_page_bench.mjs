@@ -3,8 +3,8 @@
 // compaction-server on a database filled by jobs_table_bench.py (--keep FILLED.db). A benchmark,
 // not a test.
 //
-//   load    a fresh document with the browser's cache off (CDP Network.setCacheDisabled; the
-//           server sends web/ without validators, so a browser fetches it again anyway): when
+//   load    a fresh document with the browser's cache off (CDP Network.setCacheDisabled: a
+//           first visit; a later one revalidates web/'s files by their ETags): when
 //           the last module of web/js came, when the page asked for its GET /jobs, the table's
 //           rows in the DOM (the page's hook), the largest contentful paint (all in ms since
 //           navigation start), and that GET /jobs from its request to its response's end
