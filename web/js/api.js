@@ -22,9 +22,10 @@ export function setSubmitToken(t) {
   try { t ? localStorage.setItem(TOKEN_KEY, t) : localStorage.removeItem(TOKEN_KEY); } catch { /* private mode */ }
 }
 
-// The last answer of each GET that came with an ETag (the phase map, its regions, the sweeps):
-// polling asks with If-None-Match and a 304 reuses the answer, so an unchanged map costs the
-// server no answer and the page no parse. The oldest entry goes past MAX_REMEMBERED.
+// The last answer of each GET that came with an ETag (the phase map, its regions, the sweeps,
+// the run table, a plan): polling asks with If-None-Match and a 304 reuses the answer, so an
+// unchanged map costs the server no answer and the page no parse. The oldest entry goes past
+// MAX_REMEMBERED.
 const remembered = new Map(); // path -> { etag, json }
 const MAX_REMEMBERED = 32;
 

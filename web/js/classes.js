@@ -75,7 +75,8 @@ export function fadeColor(hex, t) {
 
 // Adds the outline of a class's filled shape (circle, square, diamond, triangle, triangleDown,
 // hexagon; anything else a circle) centred at (x, y) with radius r to ctx's path, as a subpath
-// of its own (several shapes may share one path: the Plots page fills a class's markers at once).
+// of its own (several shapes may share one path: the Plots page fills a colour's markers a few
+// dozen to a path).
 export function shapePath(ctx, shape, x, y, r) {
   switch (shape) {
     case 'square': ctx.rect(x - r * 0.88, y - r * 0.88, r * 1.76, r * 1.76); break;

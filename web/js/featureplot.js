@@ -3,8 +3,8 @@
 // into columns; which variables there are, their axes (linear or log: a log axis leaves out
 // values <= 0 and says how many), the colour of a marker (the class, the label that counts, or
 // a number: N_r as the band-speed page colours it, any other over viridis), and the drawing on
-// a Plot's canvas (one path a colour: 100 000 markers in tens of ms) and as an SVG for export.
-import { CLASSES, STATES, drawMarker, look, shapePath } from './classes.js';
+// a Plot's canvas (markers of one colour filled in short shared paths) and as an SVG for export.
+import { CLASSES, STATES, category, drawMarker, look, shapePath } from './classes.js';
 import { colormap, cssColor, linearExtent, logExtent, Plot } from './plot.js';
 import { NR_MAX, nrColor } from './reflections.js';
 import { stressRatio } from './physics.js';
@@ -170,14 +170,10 @@ let viridis = null;
 const binColor = (b) => cssColor((viridis ||= colormap('viridis')), (b / (VIRIDIS_BINS - 1)) * 0.92);
 const NO_VALUE = '#b8bcc2';
 
-// The category a row is drawn as when coloured by a label column: its letter, else what its
-// job is (classes.js STATES).
+// The category a row is drawn as when coloured by a label column (class or label): the map's
+// rule (classes.js category) with that column as the letter.
 function categoryOf(data, col, i) {
-  const c = data.text[col]?.[i];
-  if (c && CLASSES[c]) return c;
-  const state = data.text.state?.[i];
-  if (state === 'succeeded') return data.text.status?.[i] === 'unstable' ? 'unstable' : 'unclassified';
-  return STATES[state] ? state : 'queued';
+  return category({ state: data.text.state?.[i], status: data.text.status?.[i], class: data.text[col]?.[i] });
 }
 
 // The colour key of each row and the legend: [{key, name, color, cat?, count}] in the order of
@@ -195,7 +191,7 @@ export function colourKeys(data, color, rows) {
     const order = [...Object.keys(CLASSES), ...Object.keys(STATES)];
     return { keys, legend: [...legend.values()].sort((a, b) => order.indexOf(a.key) - order.indexOf(b.key)) };
   }
-  const v = data.numeric[color];
+  const v = data.numeric[color] || []; // a column that did not parse as numbers: no value
   if (color === 'n_reflections') {
     rows.forEach((i, k) => {
       const x = v[i];

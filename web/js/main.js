@@ -36,16 +36,23 @@ async function route() {
   host.className = 'page-host';
   root.replaceChildren(host);
   root.dataset.page = r.name;
+  const failed = (e) => {
+    if (ticket === shown) host.innerHTML = '<p class="error">This page could not be loaded; reload to try again.</p>';
+    console.error(e);
+  };
   let page;
   try {
     page = await r.load();
   } catch (e) {
-    if (ticket === shown) host.innerHTML = '<p class="error">This page could not be loaded; reload to try again.</p>';
-    console.error(e);
+    failed(e);
     return;
   }
   if (ticket !== shown) return;
-  unmount = page.mount(host, params) || null;
+  try {
+    unmount = page.mount(host, params) || null;
+  } catch (e) {
+    failed(e);
+  }
   window.scrollTo(0, 0);
 }
 

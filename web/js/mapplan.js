@@ -50,7 +50,7 @@ export function planCaption(plan, added, initial) {
   const runs = plan.runs || {};
   const cpu = plan.cpu_hours || {};
   const parts = [
-    `adaptive plan: <b class="plan-state" data-state="${plan.state}" title="${escapeHtml(PLAN_STATES[plan.state]?.text ?? '')}">${planStateName(plan.state)}</b>`,
+    `adaptive plan: <b class="plan-state" data-state="${escapeHtml(plan.state)}" title="${escapeHtml(PLAN_STATES[plan.state]?.text ?? '')}">${escapeHtml(planStateName(plan.state))}</b>`,
     `${(runs.done + runs.pending).toLocaleString()} of ${runs.budget.toLocaleString()} runs${runs.pending ? ` (${runs.pending} pending)` : ''}`,
     cpu.budget === null || cpu.budget === undefined ? `${hours(cpu.spent)} CPU-hours (no CPU budget)` : `${hours(cpu.spent)} of ${hours(cpu.budget)} CPU-hours`,
   ];

@@ -36,7 +36,7 @@ export function filterFormHtml(limits, presets) {
   if (has('sweep')) {
     parts.push(field('sweep', 'Sweep', '<select id="rt-sweep" data-name="sweep"><option value="">all sweeps</option></select>'));
   }
-  if (has('preset')) parts.push(`<div class="f rt-f" data-field="preset"><label>Preset <span class="f-hint">(numerics)</span></label>${chipsHtml('preset', [...presets.map((p) => [p, p]), ['none', 'own numerics']])}${errHtml('preset')}</div>`);
+  if (has('preset')) parts.push(`<div class="f rt-f" data-field="preset"><label>Preset <span class="f-hint">(numerics)</span></label>${chipsHtml('preset', [...presets.map((p) => [p, escapeHtml(p)]), ['none', 'own numerics']])}${errHtml('preset')}</div>`);
   if (has('geometry')) parts.push(`<div class="f rt-f" data-field="geometry"><label>Column <span class="f-hint">(geometry)</span></label>${chipsHtml('geometry', GEOMETRIES)}${errHtml('geometry')}</div>`);
   if (has('cells_per_unit')) {
     const { lo, hi } = limits.scene.cells_per_unit;
@@ -44,7 +44,7 @@ export function filterFormHtml(limits, presets) {
   }
   if (has('imported')) parts.push(field('imported', 'Imported', `<select id="rt-imported" data-name="imported"><option value="">imported or not</option><option value="true">imported</option><option value="false">computed here</option></select>`));
   if (has('phi')) parts.push(field('phi', 'φ exactly', `<input type="text" id="rt-phi" data-name="phi" inputmode="decimal" placeholder="e.g. 0.4">`));
-  for (const r of rangeNames(limits)) {
+  for (const r of rangeNames(limits).map(escapeHtml)) {
     parts.push(`<div class="f rt-f rt-range" data-field="${r}"><label for="rt-${r}_min">${RANGE_LABELS[r] || escapeHtml(r)}</label>
       <div class="rt-pair"><input type="text" id="rt-${r}_min" data-name="${r}_min" inputmode="decimal" placeholder="min" aria-label="${r} min"><span>to</span><input type="text" id="rt-${r}_max" data-name="${r}_max" inputmode="decimal" placeholder="max" aria-label="${r} max"></div>
       ${errHtml(`${r}_min`)}${errHtml(`${r}_max`)}</div>`);

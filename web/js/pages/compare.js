@@ -15,6 +15,7 @@ import { logShows, plateStresses, stressAxisText, stressPlot, toggleTabs } from 
 import { MAX_COMPARE, compareHash, parseIds } from '../compareset.js';
 import { escapeHtml, fixed, sci } from '../format.js';
 import { parseHash } from '../router.js';
+import { stressRatio } from '../physics.js';
 
 // One colour a run, in the order of the address (Paul Tol's "bright" scheme, colour-blind safe):
 // the curve, the swatch in the list and the column's head. A class keeps its own colours
@@ -255,7 +256,7 @@ function renderStress(page) {
     return `<li data-run="${r.id}"${has ? '' : ' class="muted"'}><svg width="24" height="10" aria-hidden="true"><line x1="0" x2="24" y1="5" y2="5" class="series" style="stroke:${has ? r.color : 'transparent'}"></line></svg><a href="#/run/${r.id}">run ${r.id}</a> ${badgeHtml(r.job)} <span class="cmp-params">${paramsText(r.job)}</span>${has ? '' : ` <span class="muted">(${filesNote(r) || 'no frames.csv'})</span>`}</li>`;
   }).join('');
   box.append(lg);
-  const qys = [...new Set(withFrames.map(({ r }) => r.job.result?.summary?.params?.q_y ?? r.job.scene?.q_y).filter((q) => q !== undefined))];
+  const qys = [...new Set(withFrames.map(({ r }) => r.job.result?.summary?.params?.q_y ?? r.job.scene?.q_y).filter((q) => q !== undefined && q !== null))];
   const cap = document.createElement('p');
   cap.className = 'caption';
   cap.innerHTML = `Compressive stress on the ${page.plate === 'top' ? 'top (moving)' : 'bottom (fixed)'} plate, averaged over each frame, ${stressAxisText(qys.length === 1 ? qys[0] : undefined, log)}${qys.length > 1 ? ' (each run\'s own q<sub>y</sub>)' : ''}.`;
@@ -267,7 +268,7 @@ const PARAM_ROWS = [
   ['<i>S</i>', 'S', (j) => sci(j.S, 4)],
   ['<i>R</i>', 'R', (j) => sci(j.R, 4)],
   ['φ', 'phi', (j) => String(j.phi)],
-  ['<i>R</i>/<i>S</i>²', 'R_over_S2', (j) => sci(j.R / (j.S * j.S), 3)],
+  ['<i>R</i>/<i>S</i>²', 'R_over_S2', (j) => sci(stressRatio(j.S, j.R), 3)],
   ['cells per unit cell', 'cells_per_unit', (j) => String(j.cells_per_unit)],
   ['cells across a strut', 'cells_per_strut', (j) => fixed(j.cells_per_strut, 2)],
   ['preset', 'preset', (j) => escapeHtml(j.scene?.preset ?? j.preset ?? '—')],

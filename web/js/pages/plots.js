@@ -55,11 +55,13 @@ function pageHtml() {
 function createPage(root, params) {
   root.innerHTML = pageHtml();
   const $ = (id) => root.querySelector(`#${id}`);
+  const first = readSpec(params);
   return {
     root, params,
     limits: null, presets: [],
     query: null, // readQuery's {filters, ...}: the table's filters
-    spec: readSpec(params).spec, // x, y, xscale, yscale, color
+    spec: first.spec, // x, y, xscale, yscale, color
+    notes: first.problems, // what the page replaced or ignored of its URL, said under the filters
     data: null, // parseRunsCsv's columns of the rows of query
     total: 0, // rows the filters keep (X-Total-Count; more than data.n past max_csv_rows)
     early: null, // the rows asked for before the limits came: {qs, answer}
@@ -99,7 +101,8 @@ async function fetchRows(qs) {
     try { body = JSON.parse(text); } catch { /* not JSON */ }
     throw new ApiError(res.status, body);
   }
-  return { csv: text, total: Number(res.headers.get('X-Total-Count')) };
+  const total = res.headers.get('X-Total-Count');
+  return { csv: text, total: total === null ? NaN : Number(total) };
 }
 
 // The table's filters as text (the API's names and order, commas as written).
@@ -153,6 +156,7 @@ function apply(page, push = true) {
   fillControls(page);
   syncUrl(page, push);
   if (problems.length) {
+    ++page.seq; // an answer still coming is of the filters before: it draws nothing
     page.el.summary.textContent = 'fix the marked filter';
     page.el.plotBox.classList.add('stale');
     return;
@@ -186,7 +190,7 @@ async function load(page) {
   // A spec of a column the rows do not have falls back to the default (said under the filters).
   const { spec, problems } = readSpec(page.spec, variablesOf(page.data));
   page.spec = spec;
-  page.el.error.textContent = problems.join('; ');
+  page.el.error.textContent = [...page.notes, ...problems].join('; ');
   fillControls(page);
   syncUrl(page, false);
   const t2 = performance.now();
@@ -406,7 +410,8 @@ async function start(page) {
   apply(page, false);
   sweeps.then((s) => { if (page.alive) fillSweepSelect(page.el.form, s.sweeps || []); });
   const ignored = page.query.unknown.filter((k) => !['sort', 'limit', 'cursor', 'offset', 'format'].includes(k));
-  if (ignored.length) page.el.error.textContent = `ignored: ${ignored.join(', ')} (not a parameter of the table or the plot)`;
+  if (ignored.length) page.notes.push(`ignored: ${ignored.join(', ')} (not a parameter of the table or the plot)`);
+  if (page.notes.length && !page.el.error.textContent) page.el.error.textContent = page.notes.join('; ');
 }
 
 export function mount(root, params) {

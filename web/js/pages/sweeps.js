@@ -4,6 +4,7 @@
 import { api, submitToken, setSubmitToken } from '../api.js';
 import { validateSweep, validateAdaptive, formFieldOf } from '../sweepform.js';
 import { when, escapeHtml, duration, bytes } from '../format.js';
+import { planHash } from '../mapplan.js';
 
 const POLL_MS = 2500;
 const FIELDS = ['name', 's-min', 's-max', 's-n', 's-scale', 'r-min', 'r-max', 'r-n', 'r-scale', 'phi', 'res', 'budget', 'in-flight', 'preset', 'structure', 'seeds', 'rep-n', 'rep-pert', 'cps', 'cpu', 'eps-end', 'snapshots', 'movie', 'priority', 'attempts'];
@@ -125,7 +126,7 @@ function createPage(root) {
     alive: true,
     timer: null, // the next refresh of the list
     archiveOpen: new Set(), // the sweeps whose "Archive" is open (the list is redrawn at each poll)
-    archiveSizes: new Map(), // "id:succeeded" -> { run_page, none }: bytes, null when unknown
+    archiveSizes: new Map(), // sweep id -> { run_page, none: bytes (null: unknown), runs: its runs then }
   };
 }
 
@@ -421,23 +422,25 @@ function sweepRowHtml(page, s) {
     <td><a href="#/map?phi=${phi}&sweep=${s.id}" class="sw-name">#${s.id} ${escapeHtml(s.name)}</a>${importedHtml(s.imported)}<div class="muted small">${s.imported ? 'imported ' : ''}${when(s.created_at)} · priority ${s.priority} · ${escapeHtml(rq.numerics?.preset || 'default')}${rq.numerics?.structure === 'random' ? ` · random structure, ${rq.numerics.seeds ? `${rq.numerics.seeds.length} seeds` : `seed ${rq.numerics.seed ?? 1}`}` : ''}</div></td>
     <td class="small">${grid}<div class="muted">φ = ${(s.phis || []).join(', ')}</div>${reps}</td>
     <td>${bar(c)}<div class="small"><span class="state-text state-${s.state}">${s.state}</span> · ${c.succeeded} done${c.running ? ` · ${c.running} running` : ''}${c.queued ? ` · ${c.queued} queued` : ''}${c.failed ? ` · <b class="bad">${c.failed} failed</b>` : ''}${c.cancelled ? ` · ${c.cancelled} cancelled` : ''}${ad ? ' · ' : ' '}${of}</div></td>
-    <td class="actions">${ad ? `<a href="#/plan?sweep=${s.id}" class="plan-link" title="the adaptive planner's state, budgets and next runs">plan</a> ` : ''}<a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
+    <td class="actions">${ad ? `<a href="${planHash(s.id)}" class="plan-link" title="the adaptive planner's state, budgets and next runs">plan</a> ` : ''}<a href="${api.exportUrl(s.id, 'csv')}" download>CSV</a> <a href="${api.exportUrl(s.id, 'json')}" download>JSON</a>
       ${archiveHtml(page, s)}
       ${s.state === 'active' ? `<button class="cancel" data-id="${s.id}">Cancel</button>` : ''}</td></tr>`;
 }
 
 // The sweep's archive, the file another server imports (docs/service.md, "Merging maps"), in its
-// two forms with their sizes stated before download: asked by HEAD when "Archive" is opened, and
-// kept while the sweep's count of succeeded runs stays.
+// two forms with their sizes stated before download: asked by HEAD (the server builds the file
+// for it) when "Archive" is opened, kept while it stays open (the list is redrawn at each poll),
+// asked again when it is opened again.
 function archiveHtml(page, s) {
-  const key = `${s.id}:${s.counts.succeeded}`;
-  const sizes = page.archiveSizes.get(key) || {};
+  const sizes = page.archiveSizes.get(s.id) || {};
   const form = (artifacts, what, title) => `<li><a href="${api.archiveUrl(s.id, artifacts)}" download title="${title}">${what}</a>
     <span class="muted" data-size="${artifacts}">${sizeText(sizes[artifacts])}</span></li>`;
-  return `<details class="archive" data-id="${s.id}" data-key="${key}"${page.archiveOpen.has(s.id) ? ' open' : ''}>
+  const older = sizes.runs !== undefined && sizes.runs !== s.counts.succeeded
+    ? `<li class="muted small" data-sized-at="${sizes.runs}">sized at ${sizes.runs} runs; open again to size it now</li>` : '';
+  return `<details class="archive" data-id="${s.id}" data-runs="${s.counts.succeeded}"${page.archiveOpen.has(s.id) ? ' open' : ''}>
     <summary>Archive</summary><ul class="archive-forms">
     ${form('run_page', 'with the runs\' files', 'each run with its files but the particle snapshots: an imported run shows the same plots')}
-    ${form('none', 'results only', 'the results and their provenance, without files: a map to commit or mail')}</ul></details>`;
+    ${form('none', 'results only', 'the results and their provenance, without files: a map to commit or mail')}${older}</ul></details>`;
 }
 
 function sizeText(n) {
@@ -447,20 +450,24 @@ function sizeText(n) {
 
 async function sizeArchive(page, details) {
   const id = Number(details.dataset.id);
-  const key = details.dataset.key;
-  if (!details.open) { page.archiveOpen.delete(id); return; }
+  if (!details.open) {
+    page.archiveOpen.delete(id);
+    page.archiveSizes.delete(id);
+    return;
+  }
   page.archiveOpen.add(id);
-  if (page.archiveSizes.has(key)) return;
-  const sizes = {};
-  page.archiveSizes.set(key, sizes);
+  if (page.archiveSizes.has(id)) return; // sized, or being sized, since it was opened
+  const sizes = { runs: Number(details.dataset.runs) };
+  page.archiveSizes.set(id, sizes);
   for (const artifacts of ['none', 'run_page']) {
+    if (!page.alive || page.archiveSizes.get(id) !== sizes) return; // left, or closed meanwhile
     try {
       sizes[artifacts] = await api.downloadSize(api.archiveUrl(id, artifacts));
     } catch {
       sizes[artifacts] = null;
     }
     // The list may have been redrawn meanwhile: write into the row shown now.
-    const el = page.$('sweep-list')?.querySelector(`details.archive[data-key="${key}"] [data-size="${artifacts}"]`);
+    const el = page.$('sweep-list')?.querySelector(`details.archive[data-id="${id}"] [data-size="${artifacts}"]`);
     if (el) el.textContent = sizeText(sizes[artifacts]);
   }
 }
