@@ -36,12 +36,17 @@ export async function loadSpacetime(id, names) {
   }
 }
 
-// The map's colour quantity, log10(1 + rate) as in spacetime.png, and its extent: lo the
-// lowest value, hi the 99.5th percentile (the top 0.5 % clipped, so one spike does not wash the
-// map out).
-export function spacetimeLevels(npy) {
+// The map's colour quantity, log10(1 + rate) as in spacetime.png, a value a cell.
+function spacetimeValues(npy) {
   const vals = new Float32Array(npy.data.length);
   for (let i = 0; i < vals.length; i++) vals[i] = Math.log10(1 + Math.max(0, npy.data[i]));
+  return vals;
+}
+
+// The map's colour quantity and its extent: lo the lowest value, hi the 99.5th percentile (the
+// top 0.5 % clipped, so one spike does not wash the map out).
+export function spacetimeLevels(npy) {
+  const vals = spacetimeValues(npy);
   const sorted = Float32Array.from(vals).sort();
   const lo = sorted.length ? sorted[0] : 0;
   const hi = Math.max(sorted.length ? sorted[Math.floor(0.995 * (sorted.length - 1))] : 0, 1e-6);
@@ -61,10 +66,11 @@ export function drawSpacetime(box, npy, summary, frames, id, opts = {}) {
   const eps1 = epsAt(nf - 1);
   const eps0 = Math.max(0, eps1 - (nf === 1 ? dEps : (epsAt(nf - 1) - epsAt(0)) * nf / (nf - 1)));
   const top = (nr * rowH) / h0;
-  const levels = spacetimeLevels(npy);
+  // The map's own extent (a sort of its values) only when the caller gives no scale.
+  const levels = opts.scale ? null : spacetimeLevels(npy);
   const { lo, hi } = opts.scale || { lo: 0, hi: levels.hi };
   const span = hi - lo || 1;
-  const vals = levels.vals;
+  const vals = levels ? levels.vals : spacetimeValues(npy);
   const lut = colormap('inferno');
   const img = new ImageData(nf, nr);
   for (let f = 0; f < nf; f++) {
