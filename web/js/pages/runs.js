@@ -195,7 +195,8 @@ function render(page) {
     const inner = sortable ? `<button type="button" class="rt-sort" data-col="${c}"${title ? ` title="${escapeHtml(title)}: sort"` : ''}>${text}${arrow}</button>` : `<span${title ? ` title="${escapeHtml(title)}"` : ''}>${text}</span>`;
     return `<th data-col="${c}"${aria}>${inner}</th>`;
   }).join('');
-  const body = answer.rows.map((r) => `<tr data-id="${r.id}">${cols.map((c) => `<td data-col="${c}">${c === 'id' ? pickBoxHtml(r.id) : ''}${cellHtml(c, r[c])}</td>`).join('')}</tr>`).join('');
+  const ids = picked(); // the tab's picks, read once for every row
+  const body = answer.rows.map((r) => `<tr data-id="${r.id}">${cols.map((c) => `<td data-col="${c}">${c === 'id' ? pickBoxHtml(r.id, ids) : ''}${cellHtml(c, r[c])}</td>`).join('')}</tr>`).join('');
   el.table.innerHTML = `<thead><tr>${head}</tr></thead><tbody>${body || `<tr><td colspan="${cols.length}" class="muted rt-empty">No run matches these filters.</td></tr>`}</tbody>`;
   const first = page.stack.length * answer.limit;
   const total = answer.total;
@@ -205,21 +206,21 @@ function render(page) {
   el.prev.disabled = el.first.disabled = page.stack.length === 0;
   el.next.disabled = !answer.next;
   const max = limits.jobs.max_csv_rows;
-  updatePicked(page);
+  updatePicked(page, ids);
   el.foot.textContent = total > max ? `The CSV holds the first ${max.toLocaleString()} of the ${total.toLocaleString()} rows (the server's limit).`
     : 'Click a column\'s head to sort by it, again for the other direction. The CSV holds every row of the filtered set in this order.';
 }
 
 // A row's checkbox: the run picked for comparison (js/compareset.js keeps the picks in the tab
-// across filters, pages and visits), at most MAX_COMPARE of them.
-function pickBoxHtml(id) {
-  const on = picked().includes(id);
+// across filters, pages and visits), at most MAX_COMPARE of them; ids: the picks.
+function pickBoxHtml(id, ids) {
+  const on = ids.includes(id);
   return `<input type="checkbox" class="rt-pick" data-id="${id}" aria-label="compare run ${id}"${on ? ' checked' : ''}>`;
 }
 
-// The bar's "Compare selected" link with the count, and the boxes that may still be ticked.
-function updatePicked(page) {
-  const ids = picked();
+// The bar's "Compare selected" link with the count, and the boxes that may still be ticked;
+// ids: the picks, when the caller has read them.
+function updatePicked(page, ids = picked()) {
   const full = ids.length >= MAX_COMPARE;
   for (const box of page.el.table.querySelectorAll('input.rt-pick')) {
     box.checked = ids.includes(Number(box.dataset.id));
