@@ -8,7 +8,7 @@
 // imported run says it has no files and keeps its column; the Runs page's checkboxes lead to
 // #/compare?ids= in the order ticked, and a run page adds its run; a replicate's run page (a
 // point of three replicates) compares its point's runs; removing a run rewrites the
-// address; an unknown id, an entry that is not an id and a single run say so; at 390 px nothing
+// address, and keeps the ids past the six compared; an unknown id, an entry that is not an id and a single run say so; at 390 px nothing
 // scrolls sideways; no JavaScript error. Screenshots at 1440 x 900 and 390 x 844.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -245,6 +245,15 @@ test('compare: one colour scale, one stress plot, one features table, and the wa
     await freshCompare(page, () => page.locator('#run-compare-replicates').click(), 'the comparison of the replicates');
     assert.deepEqual((await page.locator('#cmp-table thead th[data-run]').evaluateAll((els) => els.map((e) => Number(e.dataset.run)))).sort((a, b) => a - b), reps.sort((a, b) => a - b));
     assert.equal(await page.locator('#cmp-stress path[data-series]').count(), 3);
+
+    // --- Seven runs: the seventh is left out, and removing one keeps it in the address.
+    const seven = [...ids, ...reps];
+    await openCompare(page, h.url, seven.join(','));
+    await page.locator('#cmp-table').waitFor();
+    assert.match(await page.locator('#cmp-notes').innerText(), new RegExp(`run ${seven[6]} left out`));
+    await freshCompare(page, () => page.locator(`#cmp-runs li[data-run="${erratic}"] a.cmp-remove`).click(), 'the comparison of seven without one');
+    assert.equal(await page.evaluate(() => location.hash), `#/compare?ids=${seven.slice(1).join(',')}`);
+    assert.equal(await page.locator('#cmp-notes').innerText(), '');
 
     // --- Unknown ids, entries that are no ids, a single run.
     const before = h.pageErrors.length;

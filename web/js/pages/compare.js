@@ -68,9 +68,10 @@ function createPage(root, params) {
   };
 }
 
-// The address without run id (the page is mounted again from it).
+// The address without run id (the page is mounted again from it): every other id of the
+// address in its order, those past MAX_COMPARE too (the first of them is then compared).
 function without(page, id) {
-  return compareHash(page.asked.filter((x) => x !== id));
+  return compareHash([...page.asked, ...page.left].filter((x) => x !== id));
 }
 
 // A job of the API with what the page reads of it; the run's files when it has any.
