@@ -100,7 +100,8 @@ views::PageInfo page_info(const RunQuery& q, const RunPage<T>& page) {
 // The run table's rows as CSV, streamed: read in one read transaction that the answer holds
 // until its last row is written; X-Total-Count is the filtered set's size, X-Row-Limit the most
 // rows the answer holds.
-void stream_csv(App& app, const RunQuery& q, httplib::Response& res) {
+void stream_csv(App& app, const RunQuery& q, std::vector<std::size_t> columns,
+                httplib::Response& res) {
   std::shared_ptr<RunTable::Stream> rows = app.store.runs.stream(q);
   res.status = 200;
   res.set_header("X-Total-Count", std::to_string(rows->total()));
@@ -108,16 +109,16 @@ void stream_csv(App& app, const RunQuery& q, httplib::Response& res) {
   res.set_header("Content-Disposition", "attachment; filename=\"jobs.csv\"");
   res.set_chunked_content_provider(
       "text/csv; charset=utf-8",
-      [rows, header = true](std::size_t, httplib::DataSink& sink) mutable {
+      [rows, columns = std::move(columns), header = true](std::size_t, httplib::DataSink& sink) mutable {
         // The provider runs after the handler, outside guarded(): a failure ends the answer
         // short (the chunked body never ends), and the client sees it cut.
         try {
-          std::string chunk = header ? views::run_csv_header() : "";
+          std::string chunk = header ? views::run_csv_header(columns) : "";
           header = false;
           RunRow row;
           int n = 0;
           while (n < kCsvChunkRows && rows->next(row)) {
-            chunk += views::run_csv_line(row);
+            chunk += views::run_csv_line(row, columns);
             ++n;
           }
           if (!chunk.empty() && !sink.write(chunk.data(), chunk.size())) return false;
@@ -136,13 +137,13 @@ void register_job_routes(httplib::Server& server, App& app) {
   add_route(server, endpoints::list_jobs, [&app](const httplib::Request& req, httplib::Response& res) {
     const JobsRequest r = read_jobs_request(req);
     if (r.format == JobsFormat::csv) {
-      stream_csv(app, r.query, res);
+      stream_csv(app, r.query, views::answer_columns(r.columns), res);
       return;
     }
     app.answers.serve(req, res, app.store.db.writer.commits(), [&] {
       if (r.format == JobsFormat::table) {
         const RunPage<RunRow> page = app.store.runs.page(r.query);
-        return json_text(views::run_table(page.items, page_info(r.query, page)));
+        return json_text(views::run_table(page.items, page_info(r.query, page), views::answer_columns(r.columns)));
       }
       const RunPage<JobRecord> page = app.store.reads.jobs(r.query);
       return json_text(views::jobs(page.items, page_info(r.query, page)));

@@ -139,25 +139,17 @@ const std::vector<Param>& params() {
   return all;
 }
 
-// The ranges: NAME_min and NAME_max, each inclusive.
-struct RangeParam {
-  const char* name;
-  NumberRange RunFilter::*range;
-};
-const std::vector<RangeParam>& range_params() {
-  static const std::vector<RangeParam> all = {
-      {"S", &RunFilter::S},
-      {"R", &RunFilter::R},
-      {"phi", &RunFilter::phi_range},
-      {"confidence", &RunFilter::confidence},
-      {"n_reflections", &RunFilter::n_reflections},
-      {"band_speed_ratio", &RunFilter::band_speed_ratio},
-  };
-  return all;
+// The ranges: NAME_min and NAME_max of each ranged column, each inclusive.
+std::vector<std::size_t> ranged_columns() {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < run_columns().size(); ++i) {
+    if (run_columns()[i].ranged) out.push_back(i);
+  }
+  return out;
 }
 
-// sort, limit, offset, cursor, format.
-const char* const page_params[] = {"sort", "limit", "offset", "cursor", "format"};
+// sort, limit, offset, cursor, format, columns.
+const char* const page_params[] = {"sort", "limit", "offset", "cursor", "format", "columns"};
 
 RunSort sort_of(const httplib::Request& req) {
   RunSort s;
@@ -252,9 +244,9 @@ void check_names(const httplib::Request& req) {
 std::vector<std::string> jobs_parameters() {
   std::vector<std::string> names;
   for (const Param& p : params()) names.emplace_back(p.name);
-  for (const RangeParam& r : range_params()) {
-    names.push_back(std::string(r.name) + "_min");
-    names.push_back(std::string(r.name) + "_max");
+  for (const std::size_t c : ranged_columns()) {
+    names.push_back(std::string(run_columns()[c].name) + "_min");
+    names.push_back(std::string(run_columns()[c].name) + "_max");
   }
   for (const char* p : page_params) names.emplace_back(p);
   return names;
@@ -299,12 +291,24 @@ JobsRequest read_jobs_request(const httplib::Request& req) {
   for (const Param& p : params()) {
     if (req.has_param(p.name)) p.read(req, p.name, r);
   }
-  for (const RangeParam& p : range_params()) {
-    NumberRange& range = r.query.filter.*(p.range);
-    const std::string lo = std::string(p.name) + "_min", hi = std::string(p.name) + "_max";
-    range.lo = query_number(req, lo.c_str());
-    range.hi = query_number(req, hi.c_str());
+  for (const std::size_t c : ranged_columns()) {
+    const std::string name = run_columns()[c].name, lo = name + "_min", hi = name + "_max";
+    NumberRange range{query_number(req, lo.c_str()), query_number(req, hi.c_str())};
     if (range.lo && range.hi && *range.lo > *range.hi) throw ApiError(422, hi, "must be at least " + lo);
+    if (range.any()) r.query.filter.ranges[c] = range;
+  }
+  if (req.has_param("columns")) {
+    if (r.format == JobsFormat::json) {
+      throw ApiError(422, "columns", "is taken with format=table or format=csv (the jobs of format=json are whole)");
+    }
+    for (const std::string& name : list_of(req, "columns")) {
+      const auto c = run_column(name);
+      if (!c) throw ApiError(422, "columns", "has " + valid_utf8(name.substr(0, 40)) + ", not a column of the run table (GET /limits: jobs.columns)");
+      if (std::find(r.columns.begin(), r.columns.end(), *c) != r.columns.end()) {
+        throw ApiError(422, "columns", "names " + name + " twice");
+      }
+      r.columns.push_back(*c);
+    }
   }
   return r;
 }

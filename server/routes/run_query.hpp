@@ -18,6 +18,8 @@ enum class JobsFormat { json, table, csv };
 struct JobsRequest {
   RunQuery query;
   JobsFormat format = JobsFormat::json;
+  // The columns of the answer (format=table or csv), by index, in the order asked; empty: all.
+  std::vector<std::size_t> columns;
 };
 
 JobsRequest read_jobs_request(const httplib::Request& req);

@@ -1,5 +1,6 @@
 #include "store/run_table.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "compaction/params.hpp"
@@ -20,9 +21,9 @@ const std::vector<ColumnSource>& sources() {
       {{"id", T::integer, true}, "job_id"},
       {{"sweep", T::integer, true}, "sweep"},
       {{"state", T::text, true}, "state"},
-      {{"S", T::number, true}, "S"},
-      {{"R", T::number, true}, "R"},
-      {{"phi", T::number, true}, "phi"},
+      {{"S", T::number, true, true}, "S"},
+      {{"R", T::number, true, true}, "R"},
+      {{"phi", T::number, true, true}, "phi"},
       {{"preset", T::text, true}, "preset"},
       {{"cells_per_unit", T::integer, true}, "cells_per_unit"},
       {{"cells_per_strut", T::number, false}, nullptr},
@@ -30,15 +31,38 @@ const std::vector<ColumnSource>& sources() {
       {{"point_id", T::integer, true}, "point_id"},
       {{"status", T::text, true}, "status"},
       {{"class", T::text, true}, "class"},
-      {{"confidence", T::number, true}, "confidence"},
+      {{"confidence", T::number, true, true}, "confidence"},
       {{"runner_up", T::text, true}, "runner_up"},
-      {{"n_reflections", T::integer, true}, "n_reflections"},
-      {{"band_speed_ratio", T::number, true}, "band_speed_ratio"},
+      {{"n_reflections", T::integer, true, true}, "n_reflections"},
+      {{"band_speed_ratio", T::number, true, true}, "band_speed_ratio"},
       {{"human_label", T::text, true}, "human_label"},
       {{"label", T::text, true}, "label"},
       {{"source_database", T::text, true}, "source_database"},
       {{"source_job", T::integer, true}, "source_job"},
       {{"geometry", T::text, true}, "geometry"},
+      // The result's eps_reached and wall_seconds and the classifier's numeric features
+      // (migration 0015; engine/classify/include/compaction/classify/features.hpp says what
+      // each one is).
+      {{"eps_reached", T::number, true, true}, "eps_reached"},
+      {{"wall_seconds", T::number, true, true}, "wall_seconds"},
+      {{"first_reflection_eps", T::number, true, true}, "first_reflection_eps"},
+      {{"speed_excess", T::number, true, true}, "speed_excess"},
+      {{"arrival_eps", T::number, true, true}, "arrival_eps"},
+      {{"coherence", T::number, true, true}, "coherence"},
+      {{"peak_jump", T::number, true, true}, "peak_jump"},
+      {{"stress_ratio", T::number, true, true}, "stress_ratio"},
+      {{"undulation_share", T::number, true, true}, "undulation_share"},
+      {{"deflection_growth", T::number, true, true}, "deflection_growth"},
+      {{"deflection_before_yield", T::number, true, true}, "deflection_before_yield"},
+      {{"n_fronts", T::integer, true, true}, "n_fronts"},
+      {{"band_turns", T::integer, true, true}, "band_turns"},
+      {{"band_speed_error", T::number, true, true}, "band_speed_error"},
+      {{"band_speed_early", T::number, true, true}, "band_speed_early"},
+      {{"band_speed_lead", T::number, true, true}, "band_speed_lead"},
+      {{"bottom_speed_ratio", T::number, true, true}, "bottom_speed_ratio"},
+      {{"top_stress_undulation", T::number, true, true}, "top_stress_undulation"},
+      {{"stress_drop", T::number, true, true}, "stress_drop"},
+      {{"eps_first_yield", T::number, true, true}, "eps_first_yield"},
   };
   return all;
 }
@@ -133,12 +157,7 @@ Where filter_sql(const RunFilter& f) {
   if (f.point) w.add("point_id = ?", {*f.point});
   add_choice(w, "state", {f.states});
   if (f.phi) w.add("phi BETWEEN ? AND ?", {*f.phi - 1e-9, *f.phi + 1e-9});
-  add_range(w, "S", f.S);
-  add_range(w, "R", f.R);
-  add_range(w, "phi", f.phi_range);
-  add_range(w, "confidence", f.confidence);
-  add_range(w, "n_reflections", f.n_reflections);
-  add_range(w, "band_speed_ratio", f.band_speed_ratio);
+  for (const auto& [column, range] : f.ranges) add_range(w, sources().at(column).sql, range);
   if (!f.cells_per_unit.empty()) {
     std::vector<RunValue> params(f.cells_per_unit.begin(), f.cells_per_unit.end());
     w.add("cells_per_unit IN (" + placeholders(f.cells_per_unit.size()) + ")", std::move(params));
@@ -291,9 +310,8 @@ std::optional<std::size_t> run_column(std::string_view name) {
 }
 
 bool RunFilter::empty() const {
-  return !sweep && !point && states.empty() && !phi && !S.any() && !R.any() && !phi_range.any() &&
-         !confidence.any() && !n_reflections.any() && !band_speed_ratio.any() &&
-         cells_per_unit.empty() && !preset.given() && geometries.empty() && !cls.given() &&
+  const bool no_range = std::none_of(ranges.begin(), ranges.end(), [](const auto& r) { return r.second.any(); });
+  return !sweep && !point && states.empty() && !phi && no_range && cells_per_unit.empty() && !preset.given() && geometries.empty() && !cls.given() &&
          !label.given() && !human_label.given() && !imported && !source && !text;
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -27,12 +28,14 @@ struct RunColumn {
   const char* name;  // as the API spells it
   RunType type;
   bool sortable;     // a derived column (cells_per_strut) is not
+  bool ranged = false;  // GET /jobs filters it by NAME_min and NAME_max
 };
 
 // The table's columns in the order of its rows: id (the job), sweep (the first sweep that holds
 // it), state, S, R, phi, preset, cells_per_unit, cells_per_strut, seed, point_id, status,
 // class, confidence, runner_up, n_reflections, band_speed_ratio, human_label, label (the one
-// that counts), source_database, source_job, geometry.
+// that counts), source_database, source_job, geometry, then the result's eps_reached and
+// wall_seconds and the classifier's numeric features (run_table.cpp lists them).
 const std::vector<RunColumn>& run_columns();
 // Grid cells across the thinnest strut of a run: cells_per_unit times its geometry's strut
 // fraction (compaction::strut_fraction; geometry as the scene spells it, unknown: the 2D rule).
@@ -68,7 +71,7 @@ struct RunFilter {
   std::optional<std::int64_t> point;  // a replicate of this point
   std::vector<std::string> states;    // in any of these states
   std::optional<double> phi;          // within 1e-9
-  NumberRange S, R, phi_range, confidence, n_reflections, band_speed_ratio;
+  std::map<std::size_t, NumberRange> ranges;  // by column (RunColumn::ranged), each inclusive
   std::vector<std::int64_t> cells_per_unit;  // any of these grids
   TextChoice preset, cls, label, human_label;
   std::vector<std::string> geometries;  // of any of these geometries (to_string(Geometry))

@@ -33,32 +33,40 @@ json jobs(const std::vector<JobRecord>& jobs, const PageInfo& page) {
   return with_page({{"jobs", out}}, page);
 }
 
-json run_table(const std::vector<RunRow>& rows, const PageInfo& page) {
-  json columns = json::array();
-  for (const RunColumn& c : run_columns()) columns.push_back(c.name);
+std::vector<std::size_t> answer_columns(const std::vector<std::size_t>& asked) {
+  if (!asked.empty()) return asked;
+  std::vector<std::size_t> all(run_columns().size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  return all;
+}
+
+json run_table(const std::vector<RunRow>& rows, const PageInfo& page,
+               const std::vector<std::size_t>& columns) {
+  json names = json::array();
+  for (const std::size_t c : columns) names.push_back(run_columns().at(c).name);
   json out = json::array();
   for (const RunRow& r : rows) {
     json row = json::object();
-    for (std::size_t i = 0; i < r.values.size(); ++i) row[run_columns()[i].name] = run_value(r.values[i]);
+    for (const std::size_t c : columns) row[run_columns()[c].name] = run_value(r.values.at(c));
     out.push_back(std::move(row));
   }
-  return with_page({{"columns", columns}, {"rows", out}}, page);
+  return with_page({{"columns", names}, {"rows", out}}, page);
 }
 
-std::string run_csv_header() {
+std::string run_csv_header(const std::vector<std::size_t>& columns) {
   std::string line;
-  for (const RunColumn& c : run_columns()) {
+  for (const std::size_t c : columns) {
     if (!line.empty()) line += ',';
-    line += c.name;
+    line += run_columns().at(c).name;
   }
   return line + "\n";
 }
 
-std::string run_csv_line(const RunRow& row) {
+std::string run_csv_line(const RunRow& row, const std::vector<std::size_t>& columns) {
   std::string line;
-  for (std::size_t i = 0; i < row.values.size(); ++i) {
-    if (i) line += ',';
-    const RunValue& v = row.values[i];
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    if (k) line += ',';
+    const RunValue& v = row.values.at(columns[k]);
     if (const auto* n = std::get_if<std::int64_t>(&v)) {
       line += std::to_string(*n);
     } else if (const auto* x = std::get_if<double>(&v)) {

@@ -27,11 +27,16 @@ nlohmann::json run_value(const RunValue& v);
 
 // {"jobs": [job, ...], "total", "limit", "offset", "sort", "next"}
 nlohmann::json jobs(const std::vector<JobRecord>& jobs, const PageInfo& page);
+// The columns of an answer: those asked for (indexes of run_columns(), in their order), or
+// every column when none were.
+std::vector<std::size_t> answer_columns(const std::vector<std::size_t>& asked);
+
 // {"columns": [name, ...], "rows": [{name: value, ...}, ...], "total", "limit", "offset",
-//  "sort", "next"}
-nlohmann::json run_table(const std::vector<RunRow>& rows, const PageInfo& page);
+//  "sort", "next"}, with these columns (answer_columns).
+nlohmann::json run_table(const std::vector<RunRow>& rows, const PageInfo& page,
+                         const std::vector<std::size_t>& columns);
 // The CSV's first line (the column names) and one line per row, each ending in "\n".
-std::string run_csv_header();
-std::string run_csv_line(const RunRow& row);
+std::string run_csv_header(const std::vector<std::size_t>& columns);
+std::string run_csv_line(const RunRow& row, const std::vector<std::size_t>& columns);
 
 }  // namespace compaction::server::views

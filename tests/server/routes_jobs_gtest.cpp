@@ -113,6 +113,10 @@ TEST_F(RunsApi, EachFilterKeepsTheRowsItsPredicateKeeps) {
       {"n_reflections_min=2", [](const Row& r) { return at_least(r["n_reflections"], 2); }},
       {"n_reflections_max=0", [](const Row& r) { return at_most(r["n_reflections"], 0); }},
       {"band_speed_ratio_min=1.5&band_speed_ratio_max=3", [](const Row& r) { return at_least(r["band_speed_ratio"], 1.5) && at_most(r["band_speed_ratio"], 3); }},
+      {"deflection_before_yield_min=0.03", [](const Row& r) { return at_least(r["deflection_before_yield"], 0.03); }},
+      {"coherence_max=0.5&n_fronts_min=2", [](const Row& r) { return at_most(r["coherence"], 0.5) && at_least(r["n_fronts"], 2); }},
+      {"stress_ratio_min=0", [](const Row& r) { return at_least(r["stress_ratio"], 0); }},
+      {"wall_seconds_min=0&eps_reached_max=1", [](const Row& r) { return at_least(r["wall_seconds"], 0) && at_most(r["eps_reached"], 1); }},
       {"cells_per_unit=10", [](const Row& r) { return r["cells_per_unit"] == 10; }},
       {"cells_per_unit=8,10", [](const Row& r) { return r["cells_per_unit"] == 8 || r["cells_per_unit"] == 10; }},
       {"preset=fast", [](const Row& r) { return r["preset"] == "fast"; }},
@@ -272,6 +276,33 @@ TEST_F(RunsApi, TheCsvHoldsTheFilteredRowsInTheirOrder) {
   EXPECT_EQ(none->body, header + "\n");
 }
 
+TEST_F(RunsApi, ColumnsNamesTheColumnsOfTheTableAndTheCsvInItsOrder) {
+  const std::string query = "sort=-deflection_before_yield&class=any";
+  const json whole = get("/api/v1/jobs?format=table&limit=1000&" + query);
+  const json some = get("/api/v1/jobs?format=table&limit=1000&columns=deflection_before_yield,id,class&" + query);
+  EXPECT_EQ(some["columns"], json({"deflection_before_yield", "id", "class"}));
+  EXPECT_EQ(some["total"], whole["total"]);
+  ASSERT_EQ(some["rows"].size(), whole["rows"].size());
+  for (std::size_t i = 0; i < some["rows"].size(); ++i) {
+    const json& w = whole["rows"][i];
+    EXPECT_EQ(some["rows"][i], json({{"deflection_before_yield", w["deflection_before_yield"]},
+                                     {"id", w["id"]}, {"class", w["class"]}}));
+  }
+  auto r = client->Get(("/api/v1/jobs?format=csv&columns=id,cells_per_strut,deflection_before_yield&" + query).c_str());
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  std::istringstream lines(r->body);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "id,cells_per_strut,deflection_before_yield");
+  for (const json& w : whole["rows"]) {
+    ASSERT_TRUE(std::getline(lines, line));
+    const json& d = w["deflection_before_yield"];
+    EXPECT_EQ(line, w["id"].dump() + "," + w["cells_per_strut"].dump() + "," + (d.is_null() ? "" : d.dump()));
+  }
+  EXPECT_FALSE(std::getline(lines, line));
+}
+
 TEST_F(RunsApi, EveryBadParameterIsRefusedNamingIt) {
   const std::string other_sort = get("/api/v1/jobs?limit=1&sort=S")["next"];
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -309,6 +340,14 @@ TEST_F(RunsApi, EveryBadParameterIsRefusedNamingIt) {
       {"sort=cells_per_strut", "sort"},
       {"sort=colour", "sort"},
       {"sort=--id", "sort"},
+      {"deflection_before_yield_min=x", "deflection_before_yield_min"},
+      {"coherence_min=0.6&coherence_max=0.5", "coherence_max"},
+      {"seed_min=1", "seed_min"},
+      {"columns=S,colour", "columns"},
+      {"columns=S,,R", "columns"},
+      {"columns=S,S", "columns"},
+      {"columns=S", "columns"},  // format=json: whole jobs
+      {"format=json&columns=id", "columns"},
       {"limit=0", "limit"},
       {"limit=" + std::to_string(kMaxPageRows + 1), "limit"},
       {"format=csv&limit=" + std::to_string(kMaxCsvRows + 1), "limit"},
@@ -354,14 +393,19 @@ TEST_F(RunsApi, LimitsServeTheTablesRules) {
   EXPECT_EQ(l["jobs"]["max_csv_rows"], kMaxCsvRows);
   EXPECT_EQ(l["jobs"]["q_max_bytes"], kMaxSearchBytes);
   std::vector<std::string> columns, sortable;
+  std::size_t ranged = 0;
   for (const RunColumn& c : run_columns()) {
     columns.push_back(c.name);
     if (c.sortable) sortable.push_back(c.name);
+    ranged += c.ranged;
   }
   EXPECT_EQ(l["jobs"]["columns"], columns);
   EXPECT_EQ(l["jobs"]["sort"], sortable);
   // Every parameter it lists is read: an empty value is refused as a bad value of it.
-  EXPECT_EQ(l["jobs"]["parameters"].size(), 30u);
+  // 13 filters, NAME_min and NAME_max of the S, R, phi, confidence, N_r, c_b/V and feature
+  // columns, and sort, limit, offset, cursor, format and columns.
+  EXPECT_EQ(ranged, 26u);
+  EXPECT_EQ(l["jobs"]["parameters"].size(), 13u + 2 * ranged + 6u);
   for (const json& p : l["jobs"]["parameters"]) {
     auto r = client->Get(("/api/v1/jobs?" + p.get<std::string>() + "=").c_str());
     ASSERT_TRUE(r);

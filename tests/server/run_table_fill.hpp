@@ -29,6 +29,18 @@ inline std::int64_t create(Store& s, const json& body) {
   return s.sweeps.create(sweep_rows(plan_sweep(body), s.config().engine_version), t0).id;
 }
 
+// Classifier features that tell the runs apart (the run table's feature columns, migration
+// 0015): numbers from the classification's, an integer and a NaN the summary writes as null
+// (NULL in the table).
+inline json features_of(double confidence, int n_reflections) {
+  return {{"deflection_before_yield", confidence / 10.0},
+          {"coherence", 1.0 - confidence},
+          {"n_fronts", n_reflections + 1},
+          {"stress_ratio", n_reflections == 0 ? json(nullptr) : json(0.5 * n_reflections)},
+          {"peak_jump", n_reflections},
+          {"primary_origin", "top"}};
+}
+
 // Leases the next job and uploads the engine's summary of its scene with this classification,
 // through the checks of a worker's upload. Returns the job's id (0: nothing queued).
 inline std::int64_t complete_next(Store& s, const std::string& cls, double confidence,
@@ -47,7 +59,8 @@ inline std::int64_t complete_next(Store& s, const std::string& cls, double confi
                                {"confidence", confidence},
                                {"runner_up", cls == "a" ? "b" : "a"},
                                {"n_reflections", n_reflections},
-                               {"band_speed_ratio", band_speed_ratio}};
+                               {"band_speed_ratio", band_speed_ratio},
+                               {"features", features_of(confidence, n_reflections)}};
   const ResultRecord r = intake_result(summary.dump(), l->scene, s.config().engine_version,
                                        {{"frames.csv", "eps,sigma_top\n0.01,1\n"}});
   EXPECT_EQ(s.queue.complete(l->job_id, l->token, r, t0 + 20), LeaseCheck::ok);

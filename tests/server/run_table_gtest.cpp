@@ -32,7 +32,10 @@ std::vector<std::string> dump(const std::string& path) {
       " || ',' || quote(seed) || ',' || quote(preset) || ',' || quote(status) || ',' || quote(class) || ',' || quote(confidence) || ','"
       " || quote(runner_up) || ',' || quote(n_reflections) || ',' || quote(band_speed_ratio)"
       " || ',' || quote(source_database) || ',' || quote(source_job) || ',' || quote(human_label)"
-      " || ',' || quote(label) || ',' || quote(geometry) FROM run_rows ORDER BY job_id");
+      " || ',' || quote(label) || ',' || quote(geometry) || ',' || quote(eps_reached)"
+      " || ',' || quote(wall_seconds) || ',' || quote(deflection_before_yield)"
+      " || ',' || quote(coherence) || ',' || quote(n_fronts) || ',' || quote(stress_ratio)"
+      " || ',' || quote(peak_jump) FROM run_rows ORDER BY job_id");
   std::vector<std::string> rows;
   while (q.step()) rows.push_back(q.text(0));
   return rows;
@@ -68,9 +71,9 @@ TEST(RunTable, TheTriggersKeepEachRowAsTheBackfillReadsItFromItsOwners) {
         "DROP TRIGGER run_rows_sweep; DROP TRIGGER run_rows_result; DROP TRIGGER run_rows_label_set;"
         "DROP TRIGGER run_rows_label_changed; DROP TRIGGER run_rows_label_cleared;"
         "DROP TRIGGER run_rows_geometry;"
-        "DROP TABLE run_rows; DELETE FROM schema_migrations WHERE version IN (12, 14);");
+        "DROP TABLE run_rows; DELETE FROM schema_migrations WHERE version IN (12, 14, 15);");
   }
-  { Store again(path, config()); }  // applies 0012 and 0014: the backfill
+  { Store again(path, config()); }  // applies 0012, 0014 and 0015: the backfill
   EXPECT_EQ(dump(path), kept);
 }
 
@@ -97,6 +100,17 @@ TEST(RunTable, TheRowsHoldWhatTheOwnersSay) {
   EXPECT_EQ(value(15, "source_job"), RunValue(std::int64_t{1}));
   EXPECT_EQ(value(15, "sweep"), RunValue(f.imported));
   EXPECT_EQ(value(1, "source_database"), RunValue());
+  // The classifier's features (run_table_fill::features_of): numbers and integers as they are,
+  // null as no value; none before a result.
+  // (Through a JSON text and SQLite's reading of it: equal to the last bit or two.)
+  EXPECT_DOUBLE_EQ(std::get<double>(value(1, "deflection_before_yield")), 0.1 / 10.0);
+  EXPECT_DOUBLE_EQ(std::get<double>(value(1, "coherence")), 1.0 - 0.1);
+  EXPECT_EQ(value(2, "n_fronts"), RunValue(std::int64_t{2}));
+  EXPECT_EQ(value(2, "stress_ratio"), RunValue(0.5));
+  EXPECT_EQ(value(1, "stress_ratio"), RunValue()) << "null (NaN) in the features";
+  EXPECT_EQ(value(3, "peak_jump"), RunValue(2.0)) << "an integer in a number column";
+  EXPECT_EQ(value(1, "eps_reached"), RunValue(0.05));
+  EXPECT_EQ(value(13, "deflection_before_yield"), RunValue());
   const double cells_per_strut = std::get<double>(value(13, "cells_per_strut"));
   EXPECT_DOUBLE_EQ(cells_per_strut, 10 * compaction::strut_fraction(0.3));
 }
