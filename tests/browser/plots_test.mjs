@@ -161,6 +161,31 @@ test('the Plots page: rows of the filter, positions, log/linear, Fig. 3, tooltip
       assert.ok(Math.abs(p.px[k] - ex) < 0.01 && Math.abs(p.py[k] - ey) < 0.01, `run ${id} on the linear axis`);
     });
 
+    // A classifier's feature (a column of the table since migration 0015): the deflection before
+    // yield against R, asked for with the columns the plot reads only.
+    await mark(page);
+    await page.locator('#pl-x').selectOption('R');
+    await drawn(page, 'N_r against R');
+    await mark(page);
+    await page.locator('#pl-y').selectOption('deflection_before_yield');
+    await page.locator('#pl-yscale').selectOption('log');
+    p = await drawn(page, 'deflection before yield against R');
+    const specDefl = { ...specLin, x: 'R', y: 'deflection_before_yield', yscale: 'log' };
+    assert.deepEqual(p.spec, specDefl);
+    const cols = new URLSearchParams(p.query).get('columns').split(',');
+    assert.ok(cols.includes('deflection_before_yield') && cols.includes('R') && !cols.includes('source_database'), `columns=${cols}`);
+    const withDefl = placed(all, specDefl);
+    assert.ok(withDefl.length >= 10, `${withDefl.length} runs with a deflection before yield`);
+    const offCount = (await leftOff(page)).reduce((n, l) => n + Number(l.split(':')[2]), 0);
+    assert.equal(offCount, all.length - withDefl.length, 'the others counted as left off (no value, or <= 0 on the log axis)');
+    assert.deepEqual(sorted(p.ids), sorted(withDefl.map((r) => r.id)));
+    withDefl.slice(0, 5).forEach((r) => {
+      const k = p.ids.indexOf(r.id);
+      const [ex, ey] = pixelOf(p, specDefl, r);
+      assert.ok(Math.abs(p.px[k] - ex) < 0.01 && Math.abs(p.py[k] - ey) < 0.01, `run ${r.id}'s deflection at its pixel`);
+    });
+    await shot(page, '71-plots-deflection');
+
     // Fig. 3: one click sets the axes, scales, colour N_r and the class filter a,b; only bands.
     await mark(page);
     await page.locator('.pl-view[data-view="fig3"]').click();

@@ -283,7 +283,7 @@ test('the Runs page: filters, sort, cursor pages, count, CSV, URL state, map lin
     assert.ok(w.doc <= w.vw, `page ${w.doc} px wide in a ${w.vw} px viewport`);
     assert.ok(w.box > w.boxW, 'the table scrolls in its box');
     await shot(page, '62-runs-390');
-    await page.locator('#rt-details summary').click();
+    await page.locator('#rt-details > summary').click();
     assert.ok(await page.evaluate(() => document.documentElement.scrollWidth <= window.innerWidth), 'the open filters fit too');
     await shot(page, '63-runs-390-filters');
 

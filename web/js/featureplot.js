@@ -15,7 +15,7 @@ import { escapeHtml } from './format.js';
 // Columns that name a row, not a quantity: never offered as an axis.
 const IDENTIFIERS = ['id', 'sweep', 'point_id', 'source_job'];
 // Text columns, kept as text (for colours and the tooltip), even when every cell is empty.
-const TEXTS = ['state', 'status', 'class', 'label', 'human_label', 'runner_up', 'preset', 'source_database'];
+const TEXTS = ['state', 'status', 'class', 'label', 'human_label', 'runner_up', 'preset', 'source_database', 'geometry'];
 
 // One CSV line's cells; quotes (a cell with a comma or a quote, doubled inside) taken apart.
 function cellsOf(line) {
@@ -105,15 +105,36 @@ const VARIABLES = {
   cells_per_unit: { html: 'cells per unit cell', axis: 'cells per unit cell', text: 'cells/unit', log: false },
   cells_per_strut: { html: 'cells per strut', axis: 'cells across a strut', text: 'cells/strut', log: false },
   seed: { html: 'seed (replicate)', axis: 'seed', text: 'seed', log: false },
+  // The run's and the classifier's numbers (features.hpp of engine/classify says how each is read).
+  deflection_before_yield: { html: 'strut deflection before yield', axis: 'strut deflection before yield / thickness', text: 'deflection before yield', log: true },
+  deflection_growth: { html: 'strut deflection growth (decades)', axis: 'deflection growth [decades]', text: 'deflection growth', log: false },
+  coherence: { html: 'coherence (activity in fronts)', axis: 'coherence', text: 'coherence', log: false },
+  stress_ratio: { html: 'top / bottom stress', axis: 'σ_{top} / σ_{bottom}', text: 'top/bottom stress', log: true },
+  speed_excess: { html: 'band speed excess', axis: 'c_{b}(1 − φ)/V − 1', text: 'speed excess', log: false },
+  band_speed_early: { html: '<i>c</i><sub>b</sub>/<i>V</i>, early band middle', axis: 'c_{b} / V (early, middle)', text: 'c_b/V early', log: true },
+  band_speed_lead: { html: '<i>c</i><sub>b</sub>/<i>V</i>, leading edge', axis: 'c_{b} / V (leading edge)', text: 'c_b/V lead', log: true },
+  eps_first_yield: { html: 'ε at first yield', axis: 'strain at first yield', text: 'ε first yield', log: true },
+  eps_reached: { html: 'ε reached', axis: 'strain reached', text: 'ε reached', log: false },
+  wall_seconds: { html: 'wall time (s)', axis: 'wall time [s]', text: 'wall time', log: true },
 };
 const ORDER = Object.keys(VARIABLES);
 
-// The variables the rows offer as axes and numeric colours, in ORDER, then any other numeric
-// column the server adds (with a value in some row), by name.
-export function variablesOf(data) {
-  const have = Object.keys(data.numeric).filter((k) => !IDENTIFIERS.includes(k) && (VARIABLES[k] || data.numeric[k]?.some(Number.isFinite)));
+// The variables of the run table (GET /limits: jobs.columns) as axes and numeric colours: its
+// numeric columns and R/S², in ORDER, then the others by name.
+export function variablesOf(columns) {
+  const have = [...columns.filter((k) => !IDENTIFIERS.includes(k) && !TEXTS.includes(k)), ...(columns.includes('S') && columns.includes('R') ? ['R_S2'] : [])];
   return [...ORDER.filter((k) => have.includes(k)), ...have.filter((k) => !ORDER.includes(k)).sort()];
 }
+
+// The columns a plot of `spec` reads (GET /jobs?columns=): the run's id, S, R and φ (the
+// tooltip), its state, status, class and label (the colours by category), and its axes and
+// numeric colour; R/S² from S and R.
+export function columnsFor(spec) {
+  const base = ['id', 'S', 'R', 'phi', 'state', 'status', 'class', 'label'];
+  const more = [spec.x, spec.y, spec.color].filter((k) => k !== 'R_S2' && !CATEGORY_COLOURS[k]);
+  return [...new Set([...base, ...more])];
+}
+
 export const varHtml = (k) => VARIABLES[k]?.html ?? escapeHtml(k);
 export const varText = (k) => VARIABLES[k]?.text ?? k;
 const varAxis = (k) => VARIABLES[k]?.axis ?? k;

@@ -44,13 +44,20 @@ export function filterFormHtml(limits, presets) {
   }
   if (has('imported')) parts.push(field('imported', 'Imported', `<select id="rt-imported" data-name="imported"><option value="">imported or not</option><option value="true">imported</option><option value="false">computed here</option></select>`));
   if (has('phi')) parts.push(field('phi', 'φ exactly', `<input type="text" id="rt-phi" data-name="phi" inputmode="decimal" placeholder="e.g. 0.4">`));
-  for (const r of rangeNames(limits).map(escapeHtml)) {
-    parts.push(`<div class="f rt-f rt-range" data-field="${r}"><label for="rt-${r}_min">${RANGE_LABELS[r] || escapeHtml(r)}</label>
+  const range = (r) => `<div class="f rt-f rt-range" data-field="${r}"><label for="rt-${r}_min">${RANGE_LABELS[r] || r}</label>
       <div class="rt-pair"><input type="text" id="rt-${r}_min" data-name="${r}_min" inputmode="decimal" placeholder="min" aria-label="${r} min"><span>to</span><input type="text" id="rt-${r}_max" data-name="${r}_max" inputmode="decimal" placeholder="max" aria-label="${r} max"></div>
-      ${errHtml(`${r}_min`)}${errHtml(`${r}_max`)}</div>`);
-  }
+      ${errHtml(`${r}_min`)}${errHtml(`${r}_max`)}</div>`;
+  const ranges = rangeNames(limits).map(escapeHtml);
+  for (const r of ranges.filter((n) => RANGE_LABELS[n])) parts.push(range(r));
   if (has('point')) parts.push(field('point', 'Point', `<input type="text" id="rt-point" data-name="point" inputmode="numeric" placeholder="point id (its replicates)">`));
   if (has('source')) parts.push(field('source', 'Source database', `<input type="text" id="rt-source" data-name="source" placeholder="start of its id (hex)">`));
+  // The other ranges (the run's strain reached and wall time, the classifier's features) in a
+  // fold of their own, last, opened by fillFilterForm when one of them is set.
+  const more = ranges.filter((n) => !RANGE_LABELS[n]);
+  if (more.length) {
+    parts.push(`<details class="rt-more" id="rt-more"><summary>Features and run numbers <span class="f-hint">(${more.length} ranges: the classifier's features, the strain reached, the wall time)</span></summary>
+      <div class="rt-grid">${more.map(range).join('')}</div></details>`);
+  }
   return parts.join('');
 }
 
@@ -65,6 +72,8 @@ export function fillFilterForm(form, f) {
     const on = (f[group.dataset.name] || '').split(',');
     for (const box of group.querySelectorAll('input')) box.checked = on.includes(box.value);
   }
+  const more = form.querySelector('.rt-more');
+  if (more && [...more.querySelectorAll('input[data-name]')].some((i) => i.value !== '')) more.open = true;
   return Object.keys(f).length;
 }
 

@@ -5,7 +5,7 @@
 
 // The parameters that page or shape an answer; every other parameter of limits.jobs.parameters
 // is a filter.
-const PAGE_PARAMS = ['sort', 'limit', 'offset', 'cursor', 'format'];
+const PAGE_PARAMS = ['sort', 'limit', 'offset', 'cursor', 'format', 'columns'];
 // Older or shorter names a link may use for a filter.
 const ALIASES = { cls: 'class' };
 export const LETTERS = ['a', 'b', 'c', 'd', 'e', 'f'];

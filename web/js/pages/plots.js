@@ -1,15 +1,16 @@
 // The Plots page (#/plots): any numeric column of the run table against any other, for the
 // runs the Runs page's filters keep (the same form, js/runfilters.js, and the same query,
 // js/runquery.js), as optuna-dashboard plots any parameter against any value. The rows come as
-// one GET /api/v1/jobs?format=csv (every row of the filtered set, up to limits.jobs.max_csv_rows);
-// another axis, scale or colour redraws them, another filter asks again. The URL holds the
+// one GET /api/v1/jobs?format=csv of the columns the plot reads (every row of the filtered set,
+// up to limits.jobs.max_csv_rows); another scale or a variable the rows hold redraws them,
+// another variable or filter asks again. The URL holds the
 // filters and x, y, xscale, yscale, color, so a link shows the same plot; a saved view (the
 // paper's Fig. 3 among them) sets them in one click. Exports SVG and PNG as the map does
 // (js/mapexport.js).
 import { api, ApiError } from '../api.js';
 import { swatch } from '../classes.js';
 import {
-  CATEGORY_COLOURS, PLOT_KEYS, VIEWS, colourKeys, drawExportMark, drawFeatureMarkers, markerRadius, newFeaturePlot, parseRunsCsv,
+  CATEGORY_COLOURS, PLOT_KEYS, VIEWS, colourKeys, columnsFor, drawExportMark, drawFeatureMarkers, markerRadius, newFeaturePlot, parseRunsCsv,
   placeable, readSpec, rgbOf, varHtml, varText, variablesOf, viewOf,
 } from '../featureplot.js';
 import { escapeHtml, sciText } from '../format.js';
@@ -82,15 +83,19 @@ function createPage(root, params) {
 // The hash's parameters of the table's filters (those of the plot taken out).
 const filterParams = (params) => Object.fromEntries(Object.entries(params).filter(([k]) => !PLOT_KEYS.includes(k)));
 
-// The rows' request: the table's CSV of the filters (id order; up to the server's row limit).
-const rowsQuery = (q, limits) => csvQuery({ ...q, sort: '' }, limits);
+// The rows' request: the table's CSV of the filters (id order; up to the server's row limit),
+// the columns the spec reads.
+const rowsQuery = (q, limits, spec) => `${csvQuery({ ...q, sort: '' }, limits)}&columns=${columnsFor(spec).join(',')}`;
 // ... read straight from the hash, before GET /limits has come.
 function earlyRowsQuery(params) {
   const s = new URLSearchParams(filterParams(params));
-  for (const k of ['sort', 'limit', 'offset', 'cursor', 'format']) s.delete(k);
+  for (const k of ['sort', 'limit', 'offset', 'cursor', 'format', 'columns']) s.delete(k);
   s.set('format', 'csv');
+  s.set('columns', columnsFor(readSpec(params).spec).join(','));
   return s.toString();
 }
+// Whether the rows hold every column the spec reads.
+const holds = (data, spec) => columnsFor(spec).every((k) => data.names.includes(k));
 
 // GET /jobs?qs as CSV: {csv, total}; a refusal as the ApiError of its JSON body.
 async function fetchRows(qs) {
@@ -130,11 +135,12 @@ function figureSize(box) {
   return { width, height: Math.round(Math.min(width * (width < 500 ? 1 : 0.62), Math.max(420, window.innerHeight - 260))) };
 }
 
-// The controls set from the spec (the variable lists from the rows, once they came).
+// The controls set from the spec (the variable lists from the table's columns, once the limits
+// came).
 function fillControls(page) {
-  const { el, spec, data } = page;
-  if (data) {
-    const vars = variablesOf(data);
+  const { el, spec, limits } = page;
+  if (limits) {
+    const vars = variablesOf(limits.jobs.columns);
     const opts = (list) => list.map((k) => `<option value="${escapeHtml(k)}">${escapeHtml(varText(k))}</option>`).join('');
     if (el.x.dataset.vars !== vars.join()) {
       el.x.innerHTML = el.y.innerHTML = opts(vars);
@@ -166,7 +172,7 @@ function apply(page, push = true) {
 
 async function load(page) {
   const seq = ++page.seq;
-  const qs = rowsQuery(page.query, page.limits);
+  const qs = rowsQuery(page.query, page.limits, page.spec);
   const t0 = performance.now();
   page.el.plotBox.classList.add('loading');
   const early = page.early;
@@ -188,9 +194,6 @@ async function load(page) {
   page.data = parseRunsCsv(answer.csv);
   page.total = Number.isFinite(answer.total) ? answer.total : page.data.n;
   // A spec of a column the rows do not have falls back to the default (said under the filters).
-  const { spec, problems } = readSpec(page.spec, variablesOf(page.data));
-  page.spec = spec;
-  page.el.error.textContent = [...page.notes, ...problems].join('; ');
   fillControls(page);
   syncUrl(page, false);
   const t2 = performance.now();
@@ -343,15 +346,17 @@ function onFilters(page) {
   apply(page);
 }
 
-// Another axis, scale or colour redraws the rows the page has.
+// Another axis, scale or colour redraws the rows the page has, or asks for the rows with the
+// columns it lacks.
 function onSpec(page, spec) {
   page.spec = spec;
   fillControls(page);
   syncUrl(page, true);
   if (!page.data) return;
+  if (!holds(page.data, spec)) { load(page); return; }
   const t0 = performance.now();
   render(page);
-  publish(page, { query: rowsQuery(page.query, page.limits), ms: performance.now() - t0, renderMs: performance.now() - t0, redraw: true });
+  publish(page, { query: rowsQuery(page.query, page.limits, page.spec), ms: performance.now() - t0, renderMs: performance.now() - t0, redraw: true });
 }
 
 function wire(page) {
@@ -403,6 +408,10 @@ async function start(page) {
   if (!page.alive) return;
   if (window.matchMedia('(max-width: 640px)').matches) page.el.details.open = false;
   page.limits = limits;
+  // A spec of a column the table has not falls back to the default (said under the filters).
+  const checked = readSpec(page.params, variablesOf(limits.jobs.columns));
+  page.spec = checked.spec;
+  page.notes = checked.problems;
   page.presets = presets.presets.map((p) => p.name);
   page.el.form.innerHTML = filterFormHtml(limits, page.presets);
   page.query = readQuery(filterParams(page.params), limits);
