@@ -13,10 +13,11 @@ on real HTTP on loopback against a real database filled as a server fills one:
            90th percentile of its time over --rounds, the server's CPU time per request (from
            /proc, its clock ticks summed over the rounds) and the answer's size: the first page
            (table and full jobs), sorted pages, a filtered and sorted page, a sweep's page, a
-           text search, deep pages by cursor and by offset, the count (limit=1), the CSV of
-           every run
-  upgrade  migration 0012 on a copy of the filled database without it (the run table, its
-           triggers and its record dropped): the server's start, migration included
+           text search, deep pages by cursor and by offset, the count (limit=1), a feature's
+           filter, the CSV of every run (all columns, and a plot's columns= only)
+  upgrade  migrations 0012, 0014 and 0015 on a copy of the filled database without them (the
+           run table, its triggers and their records dropped): the server's start, migrations
+           included
   writes   with --baseline (a build before the run table): the time of POST /sweeps of 2 000
            jobs and lease + complete cycles per second of 16 fake workers (queue_bench's), each
            server on a new database, alternately
@@ -83,7 +84,10 @@ def classification(scene):
     speed = round(1 / (1 - scene["phi"]) * (0.6 + 0.8 * unit(S, R, seed, "v")), 4)
     return {"class": cls, "confidence": conf, "runner_up": "abcdef"[(LABELS.index(cls) + 1) % 6],
             "n_reflections": int(4 * unit(S, R, seed, "n")), "band_speed_ratio": speed,
-            "features": {"band_speed_ratio": speed, "band_speed_error": 0.01}}
+            "features": {"band_speed_ratio": speed, "band_speed_error": 0.01,
+                         "deflection_before_yield": round(0.2 * unit(S, R, seed, "d") ** 3, 6),
+                         "coherence": round(unit(S, R, seed, "h"), 4),
+                         "n_fronts": int(3 * unit(S, R, seed, "f"))}}
 
 
 def fake_worker(port, engine, name, counts):
@@ -238,6 +242,8 @@ def answers(bin_dir, workdir, db, rounds):
         reader = Reader(s, engine)
         table = "/api/v1/jobs?format=table"
         filt = "phi=0.4&class=b,c&confidence_max=0.6&sort=-band_speed_ratio"
+        feat = "deflection_before_yield_min=0.01&sort=-coherence"
+        plot_cols = "columns=id,S,R,phi,state,status,class,label,band_speed_ratio"
         cases = [
             ("first page (table, 100 rows)", table),
             ("first page (full jobs, 100)", "/api/v1/jobs"),
@@ -257,7 +263,9 @@ def answers(bin_dir, workdir, db, rounds):
              table + "&sort=-confidence&offset=%d" % min(90000, total - 100)),
             ("count of all (limit=1)", table + "&limit=1"),
             ("count of a filter (limit=1): " + filt, table + "&limit=1&" + filt),
+            ("filtered by a feature: " + feat, table + "&" + feat),
             ("CSV of every run", "/api/v1/jobs?format=csv"),
+            ("CSV of every run, a plot's columns: " + plot_cols, "/api/v1/jobs?format=csv&" + plot_cols),
         ]
         out = []
         for name, path in cases:
@@ -266,6 +274,10 @@ def answers(bin_dir, workdir, db, rounds):
         return total, held, out
     finally:
         s.stop()
+
+
+# The migrations that make run_rows: the table (0012), its geometry (0014), its features (0015).
+RUN_ROWS_MIGRATIONS = (12, 14, 15)
 
 
 def upgrade(bin_dir, workdir, db):
@@ -279,7 +291,7 @@ def upgrade(bin_dir, workdir, db):
     for (trigger,) in c.execute("SELECT name FROM sqlite_master WHERE type = 'trigger' AND name LIKE 'run_rows_%'").fetchall():
         c.execute("DROP TRIGGER %s" % trigger)
     c.execute("DROP TABLE run_rows")
-    c.execute("DELETE FROM schema_migrations WHERE version = 12")
+    c.execute("DELETE FROM schema_migrations WHERE version IN %s" % (RUN_ROWS_MIGRATIONS,))
     c.commit()
     c.close()
     t0 = time.time()
@@ -325,8 +337,9 @@ def report(args, notes, total, held, rows, upgrade_s, write_rows, load):
     for name, path, med, p90, cpu, size in rows:
         lines.append("| %s | %.1f ms | %.1f ms | %.1f ms | %s |" % (
             name, med * 1e3, p90 * 1e3, cpu, "%.1f MB" % (size / 1e6) if size > 1e6 else "%.1f kB" % (size / 1e3)))
-    lines += ["", "Migration 0012 on a copy of this database without it (the backfill of every run, "
-              "the preset read from each scene): the server listened %.1f s after its start." % upgrade_s]
+    lines += ["", "Migrations 0012, 0014 and 0015 on a copy of this database without the run table (the "
+              "backfill of every run: the preset read from each scene, the geometry, the features read "
+              "from each result): the server listened %.1f s after its start." % upgrade_s]
     if write_rows:
         lines += ["", "What the triggers cost the writes (a new database each; medians):", "",
                   "| server | POST /sweeps of 2 000 jobs | lease + complete cycles/s, 16 Python fake workers |",
