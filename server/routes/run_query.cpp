@@ -309,6 +309,7 @@ JobsRequest read_jobs_request(const httplib::Request& req) {
       }
       r.columns.push_back(*c);
     }
+    r.query.columns = r.columns;
   }
   return r;
 }

@@ -19,6 +19,7 @@ struct JobsRequest {
   RunQuery query;
   JobsFormat format = JobsFormat::json;
   // The columns of the answer (format=table or csv), by index, in the order asked; empty: all.
+  // query.columns holds the same (what the rows read).
   std::vector<std::size_t> columns;
 };
 

@@ -205,25 +205,39 @@ void add_after(Where& w, const RunSort& s, const RunAfter& a) {
   }
 }
 
-std::string select_sql() {
+// Which of sources() a query reads: its columns, its id and sort column, and the columns the
+// cells across a strut are made from when it is asked for.
+std::vector<bool> read_columns(const RunQuery& q) {
+  std::vector<bool> read(sources().size(), q.columns.empty());
+  for (const std::size_t c : q.columns) read.at(c) = true;
+  read[kRunIdColumn] = read[q.sort.column] = true;
+  if (read[index_of("cells_per_strut")]) {
+    for (const char* name : {"phi", "cells_per_unit", "geometry"}) read[index_of(name)] = true;
+  }
+  return read;
+}
+
+std::string select_sql(const std::vector<bool>& read) {
   std::string s = "SELECT ";
-  for (const ColumnSource& c : sources()) {
-    if (c.sql) s += std::string(c.sql) + ", ";
+  for (std::size_t i = 0; i < sources().size(); ++i) {
+    if (read[i] && sources()[i].sql) s += std::string(sources()[i].sql) + ", ";
   }
   s.erase(s.size() - 2);  // the last ", "
   return s + " FROM run_rows";
 }
 
-// Reads rows of select_sql(), deriving the cells across a strut.
+// Reads rows of select_sql(read), deriving the cells across a strut when it is read.
 class RowReader {
  public:
+  explicit RowReader(std::vector<bool> read) : read_(std::move(read)) {}
+
   RunRow read(sqlite::Statement& s) {
     RunRow row;
     row.values.resize(sources().size());
     int k = 0;
     for (std::size_t i = 0; i < sources().size(); ++i) {
       const ColumnSource& c = sources()[i];
-      if (!c.sql) continue;
+      if (!c.sql || !read_[i]) continue;
       if (!s.is_null(k)) {
         switch (c.column.type) {
           case RunType::integer: row.values[i] = s.int64(k); break;
@@ -233,14 +247,17 @@ class RowReader {
       }
       ++k;
     }
-    const auto* geometry = std::get_if<std::string>(&row.values[geometry_]);
-    row.values[cells_per_strut_] =
-        cells_per_strut(std::get<std::int64_t>(row.values[cells_per_unit_]),
-                        std::get<double>(row.values[phi_]), geometry ? *geometry : "pseudo1d");
+    if (read_[cells_per_strut_]) {
+      const auto* geometry = std::get_if<std::string>(&row.values[geometry_]);
+      row.values[cells_per_strut_] =
+          cells_per_strut(std::get<std::int64_t>(row.values[cells_per_unit_]),
+                          std::get<double>(row.values[phi_]), geometry ? *geometry : "pseudo1d");
+    }
     return row;
   }
 
  private:
+  std::vector<bool> read_;
   const std::size_t phi_ = index_of("phi"), cells_per_unit_ = index_of("cells_per_unit"),
                     cells_per_strut_ = index_of("cells_per_strut"), geometry_ = index_of("geometry");
 };
@@ -258,7 +275,7 @@ sqlite::Statement rows_statement(sqlite::Database& db, const RunQuery& q, std::i
   Where w = filter_sql(q.filter);
   if (q.after) add_after(w, q.sort, *q.after);
   Sql sql = w.sql();
-  sql.text = select_sql() + sql.text + order_sql(q.sort) + " LIMIT ? OFFSET ?";
+  sql.text = select_sql(read_columns(q)) + sql.text + order_sql(q.sort) + " LIMIT ? OFFSET ?";
   sql.params.emplace_back(q.limit + extra);
   sql.params.emplace_back(q.offset);
   auto s = db.prepare(sql.text);
@@ -274,7 +291,8 @@ class StatementStream : public RunTable::Stream {
       : db_(pool.take()),
         read_(*db_),
         total_(count_rows(*db_, filter_sql(q.filter).sql())),
-        rows_(rows_statement(*db_, q, 0)) {}
+        rows_(rows_statement(*db_, q, 0)),
+        reader_(read_columns(q)) {}
 
   std::int64_t total() const override { return total_; }
   bool next(RunRow& row) override {
@@ -323,7 +341,7 @@ RunPage<RunRow> read_run_page(sqlite::Database& db, const RunQuery& q) {
   RunPage<RunRow> page;
   page.total = count_rows(db, filter_sql(q.filter).sql());
   auto s = rows_statement(db, q, 1);
-  RowReader reader;
+  RowReader reader(read_columns(q));
   while (s.step()) page.items.push_back(reader.read(s));
   if (static_cast<std::int64_t>(page.items.size()) > q.limit) {
     page.items.pop_back();

@@ -99,6 +99,9 @@ struct RunAfter {
 struct RunQuery {
   RunFilter filter;
   RunSort sort;
+  // The columns a row needs (indexes of run_columns()); the others stay empty. Empty: all. The
+  // id, the sort column and what a derived column is made from are read whatever it says.
+  std::vector<std::size_t> columns;
   std::int64_t limit = 100;
   std::int64_t offset = 0;
   std::optional<RunAfter> after;
