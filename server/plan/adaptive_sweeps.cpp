@@ -139,6 +139,7 @@ std::optional<PlanReport> AdaptiveSweeps::report(Store& store, const PlannerLimi
   r.candidates = adaptive::ranked_level_actions(spec, s->runs.done, s->runs.pending, cost);
   const std::size_t room = spec.box.in_flight > r.pending ? spec.box.in_flight - r.pending : 0;
   r.levels = level_reports(*s, adaptive::next_level_actions(spec, s->runs.done, s->runs.pending, cost, room));
+  r.columns = adaptive::column_resolution(spec, adaptive::node_labels(spec, s->runs.done));
   return r;
 }
 

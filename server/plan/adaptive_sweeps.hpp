@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "plan/adaptive_plan.hpp"
+#include "plan/column_resolution.hpp"
 #include "plan/planner.hpp"
 #include "store/clock.hpp"
 #include "store/store.hpp"
@@ -44,6 +45,7 @@ struct PlanReport {
   bool resolved = false;    // adaptive::levels_resolved over the finished runs
   std::vector<adaptive::LevelAction> candidates;  // every run worth queueing now, best first
   std::vector<LevelReport> levels;                // coarse to fine
+  std::vector<adaptive::ColumnResolution> columns;  // per S of the lattice, its boundaries
 };
 
 class AdaptiveSweeps {

@@ -153,6 +153,15 @@ json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
                                      {"pending", l.cpu_seconds_pending / 3600.0}}},
                       {"next", {{"runs", l.next_runs}, {"cpu_hours", l.next_cpu_seconds / 3600.0}}}});
   }
+  json columns = json::array();
+  for (const adaptive::ColumnResolution& c : r.columns) {
+    columns.push_back({{"S", c.S},
+                       {"points", c.points},
+                       {"boundaries", c.boundaries},
+                       {"bracket_decades", c.bracket_decades ? json(*c.bracket_decades) : json(nullptr)},
+                       {"resolved", c.resolved},
+                       {"finest_level", c.finest_level}});
+  }
   return {{"id", id},
           {"state", state},
           {"resolved", r.resolved},
@@ -171,6 +180,7 @@ json sweep_plan(std::int64_t id, const PlanReport& r, std::size_t limit) {
                        {"R", n_R},
                        {"points", n_S * n_R},
                        {"runs", n_S * n_R * static_cast<long long>(r.replicates)}}},
+          {"columns", columns},
           {"candidates_total", r.candidates.size()},
           {"candidates", candidates}};
 }

@@ -6,7 +6,8 @@
 // Every number the page shows (each carries data-k, its path in the plan's JSON) equals
 // GET /sweeps/{id}/plan's: state, resolved, runs and CPU-hours against the budgets, each level's
 // points, robust points, runs, CPU-hours and next runs, the lattice, each candidate's S, R, level,
-// replicate, weight (value), why and CPU seconds; the state's words are mapplan.js's for it. The
+// replicate, weight (value), why and CPU seconds, each S column's points, boundaries, bracket,
+// resolution and finest level; the state's words are mapplan.js's for it. The
 // page follows each result as it arrives (polled with If-None-Match: 304s while nothing changes) and
 // stops asking once unmounted; the sweeps list's "plan" link and the map caption's link lead to
 // it, a candidate's link leads to the map around its point, the limit select lists fewer; an unknown
@@ -59,6 +60,8 @@ async function matches(page, plan) {
   if (plan.cpu_hours.budget !== null) want.push('cpu_hours.budget', 'cpu_hours.budget_left');
   plan.levels.forEach((_, i) => want.push(...['cells_per_unit', 'points', 'robust', 'runs.done', 'runs.pending', 'cpu_hours.done', 'cpu_hours.pending', 'next.runs', 'next.cpu_hours'].map((k) => `levels.${i}.${k}`)));
   plan.candidates.forEach((_, i) => want.push(...['S', 'R', 'level', 'replicate', 'why', 'value', 'cpu_seconds'].map((k) => `candidates.${i}.${k}`)));
+  plan.columns.forEach((c, i) => want.push(...['S', 'points', 'boundaries', 'resolved', 'finest_level', ...(c.bracket_decades === null ? [] : ['bracket_decades'])].map((k) => `columns.${i}.${k}`)));
+  assert.equal(await page.locator('#pn-body tr[data-column]').count(), plan.columns.length, 'one row an S column');
   for (const k of want) assert.ok(keys.has(k), `the page shows ${k}`);
   assert.equal(await page.locator('#pn-body tr[data-rank]').count(), plan.candidates.length, 'one row a candidate');
   for (const [k, text] of shown) {
@@ -192,6 +195,10 @@ test('the plan page shows the plan\'s every number, follows results, and links t
     assert.ok(plan.levels[1].runs.done > 0 && plan.levels[1].robust > 0, 'the finer level ran, with robust points');
     console.log(`# final: ${plan.state}, candidates shown on the way for ${[...whys]}, ${plan.runs.done} runs, ${plan.cpu_hours.spent} of ${plan.cpu_hours.budget} CPU-hours, levels ${JSON.stringify(plan.levels.map((l) => [l.points, l.robust, l.runs.done]))}`);
     assert.ok(plan.levels[0].runs.done >= 9, 'the initial grid at level 0');
+    // A resolved plan: every S column of a point brackets the boundary within the finest R step.
+    assert.ok(plan.columns.length >= 3, `the initial grid's three S at least: ${JSON.stringify(plan.columns)}`);
+    for (const c of plan.columns) assert.ok(c.resolved && (c.bracket_decades === null || c.bracket_decades <= plan.lattice.step_R_decades + 1e-9), JSON.stringify(c));
+    assert.match(await page.locator('#pn-columns-count').innerText(), /all resolved/);
     await shot(page, 'plan-03-final-1440x900');
 
     // --- Unmounted, the page asks no more.

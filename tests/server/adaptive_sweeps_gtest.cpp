@@ -152,6 +152,7 @@ TEST_F(AdaptiveSweepsTest, ThePlanReportsRunsCandidatesAndTheStateAsTheSweepGoes
   EXPECT_EQ(v["lattice"]["R"], 33);
   EXPECT_EQ(v["lattice"]["points"], 561);
   EXPECT_EQ(v["runs"]["budget_left"], 400 - 25);
+  EXPECT_EQ(v["columns"], json::array()) << "no point finished: no column to report";
 
   // The initial grid done (its jobs run without planning): the cells across R = 1e-3 ask for
   // points, the most valuable first.
@@ -176,6 +177,16 @@ TEST_F(AdaptiveSweepsTest, ThePlanReportsRunsCandidatesAndTheStateAsTheSweepGoes
   EXPECT_EQ(v["state"], "planning") << "nothing pending, points worth running, budget left";
   EXPECT_EQ(v["candidates"].size(), 2u) << "the limit";
   EXPECT_EQ(v["candidates_total"], r->candidates.size());
+  // Each of the initial grid's 5 S columns brackets the boundary between two of its 5 R points,
+  // a decade apart: not yet the finest step (1/8 decade).
+  ASSERT_EQ(v["columns"].size(), 5u);
+  for (const json& c : v["columns"]) {
+    EXPECT_EQ(c["points"], 5) << c;
+    EXPECT_EQ(c["boundaries"], 1) << c;
+    EXPECT_NEAR(c["bracket_decades"].get<double>(), 1.0, 1e-9) << c;
+    EXPECT_EQ(c["resolved"], false) << c;
+    EXPECT_EQ(c["finest_level"], 0) << c;
+  }
 
   adaptive.advance(store, limits, id, now);
   while (run_one()) {
@@ -183,7 +194,14 @@ TEST_F(AdaptiveSweepsTest, ThePlanReportsRunsCandidatesAndTheStateAsTheSweepGoes
   r = AdaptiveSweeps::report(store, limits, id);
   EXPECT_TRUE(r->resolved);
   EXPECT_EQ(r->pending, 0u);
-  EXPECT_EQ(views::sweep_plan(id, *r, 20)["state"], "resolved");
+  v = views::sweep_plan(id, *r, 20);
+  EXPECT_EQ(v["state"], "resolved");
+  // Every S of the lattice now brackets the boundary within the finest step.
+  ASSERT_EQ(v["columns"].size(), 17u);
+  for (const json& c : v["columns"]) {
+    EXPECT_EQ(c["resolved"], true) << c;
+    EXPECT_LE(c["bracket_decades"].get<double>(), 0.125 + 1e-9) << c;
+  }
 }
 
 TEST_F(AdaptiveSweepsTest, ReplicatesGoWhereTheMapIsNoisyAndItsMajorityDrawsTheBoundary) {

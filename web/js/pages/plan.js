@@ -129,8 +129,9 @@ function levelsHtml(plan, sweep) {
       in-flight limit leaves (up to ${num('replicates', plan.replicates, int)} ${plural(plan.replicates, 'run')} of a point at one level).</p></section>`;
 }
 
-// The resolution the plan reports: one finest step for the whole map (the lattice), the grid of
-// each level, and whether every boundary is resolved. It reports no resolution per S column.
+// The resolution the plan reports: the finest step for the whole map (the lattice), the grid of
+// each level, whether every boundary is resolved, and per S column how finely its boundaries
+// along R are bracketed (columns).
 function resolutionHtml(plan) {
   const L = plan.lattice;
   const used = plan.runs.done + plan.runs.pending;
@@ -144,8 +145,27 @@ function resolutionHtml(plan) {
         what the same map would cost without planning, at one level. This sweep holds <span data-derived="share">${share}</span> of it.</dd>
       <dt>numerics</dt><dd>${grids}</dd>
     </dl>
-    <p class="hint">The plan reports the resolution for the whole map (the finest step on each axis, the grid every boundary is resolved to) and per level
-      of numerics (its grid); it does not report a resolution per <i>S</i> column. A column's points are on the map.</p></section>`;
+    ${columnsHtml(plan)}</section>`;
+}
+
+// Per S of the lattice: its points, its boundaries along R and the widest gap that brackets one
+// (against the finest R step), and the finest level run there.
+function columnsHtml(plan) {
+  const cols = plan.columns || [];
+  if (!cols.length) return '<p class="muted" id="pn-columns-none">No <i>S</i> column has a finished point yet.</p>';
+  const unresolved = cols.filter((c) => !c.resolved).length;
+  const rows = cols.map((c, i) => `<tr data-column="${i}" class="${c.resolved ? '' : 'pn-open'}">
+      <td>${num(`columns.${i}.S`, c.S)}</td><td>${num(`columns.${i}.points`, c.points, int)}</td><td>${num(`columns.${i}.boundaries`, c.boundaries, int)}</td>
+      <td>${c.bracket_decades === null ? '<span class="muted">—</span>' : num(`columns.${i}.bracket_decades`, c.bracket_decades)}</td>
+      <td data-k="columns.${i}.resolved">${c.resolved ? 'resolved' : '<b>not resolved</b>'}</td><td>${num(`columns.${i}.finest_level`, c.finest_level, int)}</td></tr>`).join('');
+  return `<h3 class="pn-sub">Per <i>S</i> column <span class="muted small" id="pn-columns-count">${cols.length} ${plural(cols.length, 'column')}, ${unresolved ? `${unresolved} not resolved` : 'all resolved'}</span></h3>
+    <div class="pn-scroll"><table class="pn-table pn-columns">
+      <thead><tr><th><i>S</i></th><th>points</th><th title="neighbours along R whose labels differ, or a label beside a failed or unclassified point">boundaries</th>
+        <th title="the widest gap along R between two points that bracket a boundary">bracket <span class="muted">decades of R</span></th><th title="every bracket within the finest R step">resolved</th><th>finest level</th></tr></thead>
+      <tbody>${rows}</tbody></table></div>
+    <p class="hint">A point's label is that of its finest finished level (its replicates' majority). Two neighbours along <i>R</i> with different labels bracket
+      a boundary; a column is resolved when every bracket is within the finest <i>R</i> step (${num('lattice.step_R_decades', plan.lattice.step_R_decades)} decade).
+      A boundary that two points of one label step over is not seen here, as the planner does not see it.</p>`;
 }
 
 // The map around a point: the sweep at its phi, the view VIEW_STEPS finest steps to each side.
