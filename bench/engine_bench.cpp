@@ -2,7 +2,7 @@
 // particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one thread unless the
 // benchmark says otherwise; on the large scene, the same column at 40 cells per unit cell
 // (86 904 particles, the `reference` preset's grid at phi = 0.4), ~1600 steps (eps 0 -> 0.002),
-// on one and two threads; and on the 3D column at 8 cells per unit cell. Reports ns per
+// on one and two threads; and on the 3D column at 8 cells per unit cell, on one and two threads. Reports ns per
 // particle-step (time-stepping loop only, scene building excluded) and its split by stage. Run
 // it with bench/run_engine_bench.sh.
 #include <benchmark/benchmark.h>
@@ -113,16 +113,19 @@ void BM_LargeScene_ApicSplitFields_2Threads(benchmark::State& state) {
 }
 
 // The 3D column (geometry = pseudo1d_3d: one unit cell across in x and z) at 8 cells per unit
-// cell, 2 x 2 x 2 particles per cell (64 566 particles), eps 0 -> 0.002 (317 steps), on
-// the one thread it runs.
-void BM_Column3D_Apic_1Thread(benchmark::State& state) {
+// cell, 2 x 2 x 2 particles per cell (64 566 particles), eps 0 -> 0.002 (317 steps), on one
+// and on two threads.
+compaction::SceneParams column_3d(int threads) {
   auto p = reference_scene();
   p.geometry = compaction::Geometry::pseudo1d_3d;
   p.cells_per_unit = 8;
   p.eps_end = 0.002;
   p.movie_d_eps = 0;
-  run(state, p);
+  p.threads = threads;
+  return p;
 }
+void BM_Column3D_Apic_1Thread(benchmark::State& state) { run(state, column_3d(1)); }
+void BM_Column3D_Apic_2Threads(benchmark::State& state) { run(state, column_3d(2)); }
 
 }  // namespace
 
@@ -138,5 +141,6 @@ BENCHMARK(BM_LargeScene_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iteration
 BENCHMARK(BM_LargeScene_ApicSplitFields_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_LargeScene_ApicSplitFields_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Column3D_Apic_1Thread)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Column3D_Apic_2Threads)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK_MAIN();

@@ -6,7 +6,7 @@
 namespace compaction {
 
 Column3D::Column3D(const SceneParams& p, const RunControl&)
-    : p_(p), s_(build_scene_3d(p)), recorder_(s_) {}
+    : p_(p), s_(build_scene_3d(p)), pool_(p.threads), recorder_(s_) {}
 
 RunResult Column3D::start() const {
   RunResult r;

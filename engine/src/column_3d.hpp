@@ -1,8 +1,8 @@
 // The 3D column (geometry pseudo1d_3d) as the run loop drives it (run_loop.hpp): its state,
 // frame recorder and step (step_3d.cpp). Its RunResult has the 2D run's frames and maps
 // (diagnostics_3d.hpp); grid_nx counts the nodes across (x and z alike), grid_ny those along y.
-// One thread; checkpoints as 2D's (checkpoint_3d.hpp); never a movie or snapshots (validate()
-// asks movie_d_eps = 0 and no snapshot strains).
+// Threads as 2D's (the scene's threads); checkpoints as 2D's (checkpoint_3d.hpp); never a movie
+// or snapshots (validate() asks movie_d_eps = 0 and no snapshot strains).
 #pragma once
 
 #include <string>
@@ -12,6 +12,7 @@
 #include "diagnostics_3d.hpp"
 #include "state_3d.hpp"
 #include "step_3d.hpp"
+#include "thread_pool.hpp"
 
 namespace compaction {
 
@@ -22,7 +23,7 @@ class Column3D {
   RunResult start() const;
   double step_limit(double t_end) const;
   StepOutcome step(double t_frame_end, StageTimes& times) {
-    return advance_step_3d(s_, t_frame_end, p_.cfl, times);
+    return advance_step_3d(s_, t_frame_end, p_.cfl, pool_, times);
   }
   void record(double eps_begin, double eps_end, RunResult& r) { recorder_.record(s_, eps_begin, eps_end, r); }
   std::string check_frame(const Frame& f) const;
@@ -39,6 +40,7 @@ class Column3D {
  private:
   const SceneParams& p_;
   State3D s_;
+  ThreadPool pool_;
   FrameRecorder3D recorder_;
 };
 

@@ -11,7 +11,10 @@
 
 namespace compaction {
 
-void g2p_3d(State3D& s, double dt) {
+namespace {
+
+// Particles [begin, end); returns what they measure.
+StepMeasure update_particles(State3D& s, double dt, std::size_t begin, std::size_t end) {
   const Grid3D& g = s.grid;
   Particles3D& P = s.particles;
   const std::size_t layer = g.layer();
@@ -22,7 +25,7 @@ void g2p_3d(State3D& s, double dt) {
   StepMeasure m;
   m.y_min = 1e300;
   m.y_max = -1e300;
-  for (std::size_t p = 0; p < P.n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     const auto st = kernel::quadratic_3d(P.x[p] * inv_dx, P.y[p] * inv_dx + gy, P.z[p] * inv_dx);
     int col[3], dep[3];
     for (int a = 0; a < 3; ++a) {
@@ -72,6 +75,24 @@ void g2p_3d(State3D& s, double dt) {
     m.max_v2 = std::isnan(v2) || std::isnan(m.max_v2) ? std::nan("") : std::max(m.max_v2, v2);
     m.y_min = std::min(m.y_min, P.y[p]);
     m.y_max = std::max(m.y_max, P.y[p]);
+  }
+  return m;
+}
+
+}  // namespace
+
+// With threads, each updates a share of the particles (each writes only its own); their
+// measures are combined in thread order (the largest speed, NaN if any is, the extent in y).
+void g2p_3d(State3D& s, double dt, ThreadPool& pool) {
+  const std::size_t n = s.particles.n;
+  pool.run([&](int t) { s.partial_measures[t] = update_particles(s, dt, pool.begin(n, t), pool.end(n, t)); });
+  StepMeasure m = s.partial_measures[0];
+  for (int t = 1; t < pool.size(); ++t) {
+    const StepMeasure& o = s.partial_measures[t];
+    m.bad_jacobian = m.bad_jacobian || o.bad_jacobian;
+    m.max_v2 = std::isnan(m.max_v2) || std::isnan(o.max_v2) ? std::nan("") : std::max(m.max_v2, o.max_v2);
+    m.y_min = std::min(m.y_min, o.y_min);
+    m.y_max = std::max(m.y_max, o.y_max);
   }
   s.measure = m;
 }

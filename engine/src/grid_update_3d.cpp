@@ -11,13 +11,16 @@
 
 namespace compaction {
 
-void grid_update_3d(State3D& s) {
+namespace {
+
+// Layers [row_begin, row_end): velocities from momenta, then the plates.
+PlateImpulses update_layers(State3D& s, int row_begin, int row_end) {
   Grid3D& g = s.grid;
   const Setup3D& su = s.setup;
   const double top = su.top_y(s.clock.t);
   const std::size_t layer = g.layer();
   double top_impulse = 0.0, bottom_impulse = 0.0;
-  for (int j = g.row_lo; j < g.row_hi; ++j) {
+  for (int j = row_begin; j < row_end; ++j) {
     const double y = (j - g.gy) * g.dx;
     const bool at_bottom = y <= 0.0, at_top = y >= top;
     Node3D* row = g.nodes.data() + static_cast<std::size_t>(j) * layer;
@@ -32,9 +35,26 @@ void grid_update_3d(State3D& s) {
       n.vz *= inv_m;
     }
   }
-  s.clock.top_impulse += top_impulse;
-  s.clock.bottom_impulse += bottom_impulse;
-  s.clock.plate_work += -su.V * top_impulse;  // the bottom plate does not move
+  return {.top = top_impulse, .bottom = bottom_impulse};
+}
+
+}  // namespace
+
+// With threads, each updates a share of the layers; their impulses are added in thread order
+// (thread 0's layers hold the bottom plate and the last thread's the top plate, so each impulse
+// has the bits of one thread).
+void grid_update_3d(State3D& s, ThreadPool& pool) {
+  const Grid3D& g = s.grid;
+  const std::size_t rows = static_cast<std::size_t>(g.row_hi - g.row_lo);
+  pool.run([&](int t) {
+    s.partial_impulses[t] = update_layers(s, g.row_lo + static_cast<int>(pool.begin(rows, t)),
+                                          g.row_lo + static_cast<int>(pool.end(rows, t)));
+  });
+  PlateImpulses sum = s.partial_impulses[0];
+  for (int t = 1; t < pool.size(); ++t) sum.top += s.partial_impulses[t].top, sum.bottom += s.partial_impulses[t].bottom;
+  s.clock.top_impulse += sum.top;
+  s.clock.bottom_impulse += sum.bottom;
+  s.clock.plate_work += -s.setup.V * sum.top;  // the bottom plate does not move
 }
 
 }  // namespace compaction

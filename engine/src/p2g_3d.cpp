@@ -3,25 +3,50 @@
 //   m_i += w m_p
 //   (m v)_i += w (m_p v_p + Q_p d),  Q_p = -dt V0 D^-1 tau_p + m_p C_p,  d = x_i - x_p
 // with D^-1 = 4 / dx^2 (kernel.hpp). Columns x and z wrap through grid.wrap (periodic).
+// With threads, as in 2D (scatter_rows.hpp, a row being a y-layer): each thread scatters a share
+// of the particles, into the grid where its layers are its own, else into its scratch grid,
+// summed into the grid afterwards in thread order. One thread adds every particle to the grid in
+// order, so its result has the bits of the loop without threads.
 #include <algorithm>
+#include <limits>
 
 #include "kernel_3d.hpp"
 #include "stages_3d.hpp"
 
 namespace compaction {
 
-void p2g_3d(State3D& s, double dt) {
-  Grid3D& g = s.grid;
+namespace {
+
+// The first stencil layer of a particle at height y.
+int base_layer(const Grid3D& g, double y) { return kernel::quadratic(y * g.inv_dx + g.gy).base; }
+
+// The layers [lo, hi) that particles [begin, end) reach with their stencils (none for a NaN
+// position, which the stability checks stop the run for).
+void reach(const Particles3D& P, const Grid3D& g, std::size_t begin, std::size_t end, int& lo,
+           int& hi) {
+  double y_min = std::numeric_limits<double>::infinity(), y_max = -y_min;
+  for (std::size_t p = begin; p < end; ++p) y_min = std::min(y_min, P.y[p]), y_max = std::max(y_max, P.y[p]);
+  if (!(y_min <= y_max)) {
+    lo = hi = 0;
+    return;
+  }
+  lo = base_layer(g, y_min);
+  hi = base_layer(g, y_max) + 3;
+}
+
+// Particles [begin, end) into `own` (null: all into the grid), or into the grid where their
+// three layers are `alone` to this thread.
+void scatter(const State3D& s, double dt, std::size_t begin, std::size_t end, Node3D* grid,
+             Node3D* own, const std::uint8_t* alone) {
+  const Grid3D& g = s.grid;
   const Particles3D& P = s.particles;
   const std::size_t layer = g.layer();
-  std::fill(g.nodes.begin() + g.row_lo * layer, g.nodes.begin() + g.row_hi * layer,
-            Node3D{0, 0, 0, 0});
   const double m = P.mass, dx = g.dx, inv_dx = g.inv_dx, gy = g.gy;
   const double stress = -dt * s.setup.scale;
   const int* wrap = g.wrap.data();
-  Node3D* nodes = g.nodes.data();
-  for (std::size_t p = 0; p < P.n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     const auto st = kernel::quadratic_3d(P.x[p] * inv_dx, P.y[p] * inv_dx + gy, P.z[p] * inv_dx);
+    Node3D* nodes = own != nullptr && !alone[st.y.base] ? own : grid;
     const Mat3 q = stress * P.tau[p] + m * P.C[p];
     const double mvx = m * P.vx[p], mvy = m * P.vy[p], mvz = m * P.vz[p];
     int col[3], dep[3];
@@ -47,6 +72,56 @@ void p2g_3d(State3D& s, double dt) {
       }
     }
   }
+}
+
+}  // namespace
+
+void p2g_3d(State3D& s, double dt, ThreadPool& pool) {
+  Grid3D& g = s.grid;
+  const std::size_t layer = g.layer(), n = s.particles.n;
+  const std::size_t lo = static_cast<std::size_t>(g.row_lo) * layer;
+  const std::size_t count = static_cast<std::size_t>(g.row_hi - g.row_lo) * layer;
+  const bool threads = pool.size() > 1;
+  ScatterRows& rows = g.scatter_rows;
+  const int row_count = g.row_hi - g.row_lo;
+  // 1. The grid's layers zeroed, a share each; the layers each thread's particles reach.
+  pool.run([&](int t) {
+    std::fill(g.nodes.begin() + lo + pool.begin(count, t), g.nodes.begin() + lo + pool.end(count, t),
+              Node3D{0, 0, 0, 0});
+    if (threads) reach(s.particles, g, pool.begin(n, t), pool.end(n, t), rows.lo[t], rows.hi[t]);
+  });
+  if (threads) rows.plan(g.row_lo, g.row_hi);
+  // 2. Mass and momentum: thread 0 into the grid, the others into the grid or their scratch
+  // (zeroed first on the layers near a shared one, the only ones they write there).
+  pool.run([&](int t) {
+    if (t == 0) {
+      scatter(s, dt, pool.begin(n, t), pool.end(n, t), g.nodes.data(), nullptr, nullptr);
+      return;
+    }
+    std::vector<Node3D>& own = g.scratch[static_cast<std::size_t>(t - 1)];
+    for (int r = std::max(rows.lo[t], g.row_lo); r < std::min(rows.hi[t], g.row_hi); ++r) {
+      if (rows.near[r]) std::fill_n(own.begin() + static_cast<std::size_t>(r) * layer, layer, Node3D{0, 0, 0, 0});
+    }
+    scatter(s, dt, pool.begin(n, t), pool.end(n, t), g.nodes.data(), own.data(), rows.alone.data());
+  });
+  if (!threads) return;
+  // 3. The scratch summed into the grid on the layers near a shared one, thread 1 first: the
+  // result does not depend on timing.
+  pool.run([&](int t) {
+    const int r0 = g.row_lo + static_cast<int>(pool.begin(static_cast<std::size_t>(row_count), t));
+    const int r1 = g.row_lo + static_cast<int>(pool.end(static_cast<std::size_t>(row_count), t));
+    for (int r = r0; r < r1; ++r) {
+      if (!rows.near[r]) continue;
+      for (std::size_t u = 0; u < g.scratch.size(); ++u) {
+        if (!rows.reaches(static_cast<int>(u) + 1, r)) continue;
+        const Node3D* src = g.scratch[u].data() + static_cast<std::size_t>(r) * layer;
+        Node3D* dst = g.nodes.data() + static_cast<std::size_t>(r) * layer;
+        for (std::size_t k = 0; k < layer; ++k) {
+          dst[k].m += src[k].m, dst[k].vx += src[k].vx, dst[k].vy += src[k].vy, dst[k].vz += src[k].vz;
+        }
+      }
+    }
+  });
 }
 
 }  // namespace compaction

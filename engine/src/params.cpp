@@ -117,7 +117,6 @@ void validate_3d(const SceneParams& p, std::vector<FieldError>& e) {
   }
   if (p.structure != Structure::regular) e.push_back({"structure", what + "regular only"});
   if (p.perturbation != 0.0) e.push_back({"perturbation", what + "an unperturbed lattice (0)"});
-  if (p.threads != 1) e.push_back({"threads", what + "on one thread (1)"});
   if (p.movie_d_eps != 0.0) e.push_back({"movie_d_eps", what + "without a movie (0)"});
   if (!p.snapshot_eps.empty()) e.push_back({"snapshot_eps", what + "without snapshots ([])"});
 }

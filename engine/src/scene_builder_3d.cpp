@@ -24,6 +24,8 @@ void build_grid(const SceneParams& p, Grid3D& g) {
   g.nodes.assign(g.layer() * g.ny, Node3D{0, 0, 0, 0});
   g.row_lo = 0;
   g.row_hi = g.ny;
+  g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.nodes);
+  g.scatter_rows.resize(p.threads, g.ny);
 }
 
 Setup3D make_setup(const SceneParams& p, const Grid3D& g, double vol0) {
@@ -84,6 +86,8 @@ State3D build_scene_3d(const SceneParams& p) {
   const auto [lo, hi] = std::minmax_element(s.particles.y.begin(), s.particles.y.end());
   s.measure.y_min = *lo;
   s.measure.y_max = *hi;
+  s.partial_impulses.resize(static_cast<std::size_t>(p.threads));
+  s.partial_measures.resize(static_cast<std::size_t>(p.threads));
   return s;
 }
 

@@ -12,7 +12,8 @@
 
 #include "compaction/params.hpp"
 #include "plasticity_3d.hpp"
-#include "state.hpp"  // Clock, StepMeasure (dimension-free)
+#include "scatter_rows.hpp"
+#include "state.hpp"  // Clock, StepMeasure, PlateImpulses (dimension-free)
 
 namespace compaction {
 
@@ -45,6 +46,10 @@ struct Grid3D {
   std::vector<Node3D> nodes;   // nodes[(j * nz + k) * nx + i]: a y-layer is contiguous
   int row_lo = 0, row_hi = 0;  // y-layers that can carry mass this step, [row_lo, row_hi)
   int cells_across = 0, cells_y = 0;  // grid cells across (x and z) and along the column
+  // With threads (p2g_3d.cpp): the P2G targets of threads 1..T-1 (grids of the same shape) and
+  // the y-layers each thread writes alone (scatter_rows.hpp, a row being a y-layer).
+  std::vector<std::vector<Node3D>> scratch;
+  ScatterRows scatter_rows;
   std::size_t layer() const { return static_cast<std::size_t>(nx) * nz; }  // nodes per y-layer
 };
 
@@ -66,6 +71,10 @@ struct State3D {
   Grid3D grid;
   Clock clock;
   StepMeasure measure;  // x_min/x_max unused (x is periodic)
+  // One per thread, combined in thread order: the plates' impulses of each thread's layers and
+  // the measure of each thread's particles.
+  std::vector<PlateImpulses> partial_impulses;
+  std::vector<StepMeasure> partial_measures;
 };
 
 }  // namespace compaction

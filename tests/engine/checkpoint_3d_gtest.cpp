@@ -1,7 +1,8 @@
 // The 3D column's checkpoints (geometry pseudo1d_3d): a run stopped and resumed from its
 // checkpoint ends with the bits of an uninterrupted run (frames, both maps, counts and the
 // final particles: positions, velocities, C, Fe, tau, the open frame's plastic strain),
-// whether it stopped at a frame's end or within a frame; writing checkpoints changes nothing;
+// whether it stopped at a frame's end or within a frame, on one thread or two; writing
+// checkpoints changes nothing;
 // a checkpoint of another scene (another S, or the 2D column's) is refused naming the key, a
 // damaged or truncated one is refused. Exact: the resumed run must repeat the same
 // floating-point operations on the same bits.
@@ -97,6 +98,20 @@ TEST_F(Checkpoint3dGtest, RunResumedFromWithinAFrameGivesTheBitsOfAnUninterrupte
   EXPECT_GT(mid.eps, mid.frames * p.d_eps);  // within a frame
 
   expect_same_end(whole, resume_to_end(p, path("mid.ckpt")));
+}
+
+// On two threads (p2g_3d's shared layers summed in thread order): two runs give the same bits,
+// and a run stopped at a frame's end and resumed gives them too.
+TEST_F(Checkpoint3dGtest, OnTwoThreadsARunRepeatsItsBitsAndResumesWithThem) {
+  SceneParams p = small_column();
+  p.threads = 2;
+  const Ended whole = run_3d(p, {});
+  ASSERT_EQ(whole.result.status, RunStatus::ok) << whole.result.reason;
+  ASSERT_GT(whole.result.frames.back().plastic_fraction, 0.0);
+  expect_same_end(whole, run_3d(p, {}));
+  const RunResult first = run_until_frame(p, 4, "", path("two.ckpt"));
+  ASSERT_EQ(first.status, RunStatus::cancelled);
+  expect_same_end(whole, resume_to_end(p, path("two.ckpt")));
 }
 
 TEST_F(Checkpoint3dGtest, CheckpointOfAnotherSceneIsRefusedNamingTheKey) {

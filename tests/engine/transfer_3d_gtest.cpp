@@ -1,8 +1,11 @@
 // Conservation of the 3D column's transfers and step (p2g_3d, grid_update_3d, g2p_3d): mass on
 // the grid equals the particles' mass, and in a free periodic box (no plate reached) total
-// momentum is kept through many steps with random velocities, affine fields and stresses.
+// momentum is kept through many steps with random velocities, affine fields and stresses; on
+// one thread and on two (p2g_3d's scratch grids and shared layers), and two threads give one
+// thread's grid to round-off.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 #include <cmath>
@@ -17,8 +20,9 @@ namespace {
 
 // A porous column of three unit cells, kept only in the middle one: at least L - 1.5 dx from
 // either plate, so no plate node is reached; with V = 0 the top plate stays at h0.
-State3D free_box() {
+State3D free_box(int threads = 1) {
   SceneParams p;
+  p.threads = threads;
   p.geometry = Geometry::pseudo1d_3d;
   p.phi = 0.5;
   p.n_rows = 3;
@@ -64,11 +68,14 @@ Vec3 momentum(const Particles3D& P) {
 
 // Grid mass: sum of the particles' masses times weights that sum to one (1e-12 relative: the
 // round-off of summing ~1e5 terms).
-TEST(Transfer3dGtest, ParticleToGridKeepsMassAndMomentum) {
-  State3D s = free_box();
+class Transfer3dThreads : public ::testing::TestWithParam<int> {};
+
+TEST_P(Transfer3dThreads, ParticleToGridKeepsMassAndMomentum) {
+  State3D s = free_box(GetParam());
+  ThreadPool pool(GetParam());
   const double dt = stable_dt_3d(s, 0.5);
   s.grid.row_lo = 0, s.grid.row_hi = s.grid.ny;
-  p2g_3d(s, dt);
+  p2g_3d(s, dt, pool);
   double mass = 0.0;
   Vec3 grid_momentum = Vec3::Zero();
   for (const Node3D& n : s.grid.nodes) mass += n.m, grid_momentum += Vec3(n.vx, n.vy, n.vz);
@@ -82,13 +89,14 @@ TEST(Transfer3dGtest, ParticleToGridKeepsMassAndMomentum) {
 
 // 50 steps of the whole recipe: momentum kept to 1e-11 of n m |v| (round-off of 50 steps of
 // 1e5-term sums), the plates never act (no impulse), and the particles stay inside the box.
-TEST(Transfer3dGtest, StepsInAFreePeriodicBoxKeepMomentum) {
-  State3D s = free_box();
+TEST_P(Transfer3dThreads, StepsInAFreePeriodicBoxKeepMomentum) {
+  State3D s = free_box(GetParam());
+  ThreadPool pool(GetParam());
   const Vec3 p0 = momentum(s.particles);
   const double scale = s.particles.n * s.particles.mass * 0.01 * s.setup.c_p;
   StageTimes times;
   for (int n = 0; n < 50; ++n) {
-    const StepOutcome step = advance_step_3d(s, std::numeric_limits<double>::infinity(), 0.5, times);
+    const StepOutcome step = advance_step_3d(s, std::numeric_limits<double>::infinity(), 0.5, pool, times);
     ASSERT_FALSE(s.measure.bad_jacobian);
     ASSERT_FALSE(step.closes_frame);
   }
@@ -96,6 +104,39 @@ TEST(Transfer3dGtest, StepsInAFreePeriodicBoxKeepMomentum) {
   EXPECT_EQ(s.clock.top_impulse, 0.0);
   EXPECT_EQ(s.clock.bottom_impulse, 0.0);
   EXPECT_GT(p0.cwiseAbs().maxCoeff(), 1e-3 * scale);  // a momentum to keep, not zero
+}
+
+INSTANTIATE_TEST_SUITE_P(Threads, Transfer3dThreads, ::testing::Values(1, 2));
+
+// Two threads scatter the particles of the shared layers into a scratch grid and add it after:
+// each node gets the same terms in another order, so the grids agree to round-off (1e-13 of a
+// node's scale) and the particles after 20 steps to 1e-12 of the cell.
+TEST(Transfer3dGtest, TwoThreadsGiveOneThreadsGridToRoundOff) {
+  State3D one = free_box(1), two = free_box(2);
+  ThreadPool pool1(1), pool2(2);
+  const double dt = stable_dt_3d(one, 0.5);
+  one.grid.row_lo = two.grid.row_lo = 0, one.grid.row_hi = two.grid.row_hi = one.grid.ny;
+  p2g_3d(one, dt, pool1);
+  p2g_3d(two, dt, pool2);
+  const auto& near = two.grid.scatter_rows.near;
+  ASSERT_TRUE(std::any_of(near.begin(), near.end(), [](std::uint8_t v) { return v != 0; }))
+      << "the two shares meet in the middle: some layers are shared";
+  const double m_scale = one.particles.mass, p_scale = one.particles.mass * 0.01 * one.setup.c_p;
+  for (std::size_t k = 0; k < one.grid.nodes.size(); ++k) {
+    const Node3D &a = one.grid.nodes[k], &b = two.grid.nodes[k];
+    ASSERT_NEAR(a.m, b.m, 1e-13 * m_scale) << k;
+    ASSERT_NEAR(a.vx, b.vx, 1e-13 * p_scale) << k;
+    ASSERT_NEAR(a.vy, b.vy, 1e-13 * p_scale) << k;
+    ASSERT_NEAR(a.vz, b.vz, 1e-13 * p_scale) << k;
+  }
+  StageTimes times;
+  for (int n = 0; n < 20; ++n) {
+    advance_step_3d(one, std::numeric_limits<double>::infinity(), 0.5, pool1, times);
+    advance_step_3d(two, std::numeric_limits<double>::infinity(), 0.5, pool2, times);
+  }
+  for (std::size_t i = 0; i < one.particles.n; ++i) {
+    ASSERT_NEAR(one.particles.y[i], two.particles.y[i], 1e-12 * one.grid.dx) << i;
+  }
 }
 
 }  // namespace
