@@ -8,21 +8,10 @@
 
 #include <cmath>
 
+#include "trusted_box.hpp"
+
 namespace compaction::server::adaptive {
 namespace {
-
-LevelsSpec trusted_box() {
-  LevelsSpec s;
-  s.box.S = {3e-3, 3e-2};
-  s.box.R = {1e-5, 1e-2};
-  s.box.initial_S = 3;
-  s.box.initial_R = 4;
-  s.box.resolution_decades = 0.125;
-  s.box.budget = 400;
-  s.levels = 2;
-  s.replicates = 4;
-  return s;
-}
 
 NodeLabel at(const LevelsSpec& s, long long i, long long j, std::optional<std::string> label,
              int level = 0) {
@@ -34,7 +23,7 @@ NodeLabel at(const LevelsSpec& s, long long i, long long j, std::optional<std::s
 }
 
 TEST(ColumnResolution, BracketsBoundariesAlongRPerColumn) {
-  const LevelsSpec s = trusted_box();
+  const LevelsSpec s = trusted_spec(2, 4, 400);
   ASSERT_NEAR(finest_steps(s.box).R, 0.125, 1e-12);
   std::vector<NodeLabel> nodes = {
       // Column 0: the initial grid's points only, a boundary between R = 1e-4 and 1e-3.
@@ -76,7 +65,7 @@ double line(double S, int level) { return -3.0 + 0.5 * (std::log10(S) + 2.0) + 0
 double cost(Point p, int level) { return 0.01 / p.S * std::pow(6.0, level); }
 
 TEST(ColumnResolution, ASweepRunToItsEndIsResolvedInEveryColumnAtTheFinestLevel) {
-  const LevelsSpec s = trusted_box();
+  const LevelsSpec s = trusted_spec(2, 4, 400);
   std::vector<LevelRun> done;
   // The initial grid alone: every column of it brackets the line within the initial R step.
   for (int round = 0; round < 1000; ++round) {

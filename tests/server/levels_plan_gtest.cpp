@@ -10,24 +10,10 @@
 #include <map>
 #include <set>
 
+#include "trusted_box.hpp"
+
 namespace compaction::server::adaptive {
 namespace {
-
-// The box of issue 47's trusted map: S 3e-3..3e-2, R 1e-5..1e-2, initial 3 x 4, an eighth of a
-// decade: a lattice of 9 x 25 nodes.
-LevelsSpec trusted_spec(int levels, std::size_t replicates, std::size_t budget) {
-  LevelsSpec s;
-  s.box.S = {3e-3, 3e-2};
-  s.box.R = {1e-5, 1e-2};
-  s.box.initial_S = 3;
-  s.box.initial_R = 4;
-  s.box.resolution_decades = 0.125;
-  s.box.budget = budget;
-  s.box.in_flight = 8;
-  s.levels = levels;
-  s.replicates = replicates;
-  return s;
-}
 
 // A run costs about 1/S; each level 6 times the one before ((8 / 4.5)^3, the default preset
 // against 8 cells across a strut).
