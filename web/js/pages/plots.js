@@ -193,7 +193,6 @@ async function load(page) {
   const t1 = performance.now();
   page.data = parseRunsCsv(answer.csv);
   page.total = Number.isFinite(answer.total) ? answer.total : page.data.n;
-  // A spec of a column the rows do not have falls back to the default (said under the filters).
   fillControls(page);
   syncUrl(page, false);
   const t2 = performance.now();
