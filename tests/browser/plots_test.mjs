@@ -3,7 +3,8 @@
 // (200 imported runs of all six classes). Checked against direct requests of GET /api/v1/jobs:
 // the plotted runs are the API's rows of the filter that have both values (and > 0 on a log
 // axis, the others counted), markers sit at the pixels their values map to and show their
-// class's colour there, a class chip of the shared filter form narrows the rows as the table's
+// class's colour there, the first rows of a set drawn while the rest come (the threshold lowered
+// to 50 rows), a class chip of the shared filter form narrows the rows as the table's
 // query does, the log/linear switch, the Fig. 3 view (its URL, only classes a and b, coloured by
 // N_r), the tooltip and the click to a run, the SVG export (one marker per plotted run) and the
 // PNG, the Runs page's "plot these runs" link, a reload of a shared URL, 390 x 844 without
@@ -68,8 +69,14 @@ test('the Plots page: rows of the filter, positions, log/linear, Fig. 3, tooltip
     assert.equal(all.length, 200);
 
     const page = await h.browser({ width: 1440, height: 900 });
+    // A set of more than 50 rows is drawn first from its first rows as they come (the page's
+    // 20 000 lowered so that these 200 runs take that path), then whole.
+    await page.addInitScript(() => { window.__dashboard = { renders: [], firstRows: 50 }; });
     await page.goto(`${h.url}/#/plots`);
     let p = await drawn(page, 'the default plot');
+    const firstPlot = await page.evaluate(() => window.__dashboard.firstPlot);
+    assert.ok(firstPlot && firstPlot.rows > 50 && firstPlot.rows <= 200 && firstPlot.total === 200, `the first rows drawn first: ${JSON.stringify(firstPlot)}`);
+    assert.ok(firstPlot.at <= p.at, 'before the whole plot');
     assert.equal(await page.locator('.nav a.active').getAttribute('data-page'), 'plots');
     const spec0 = { x: 'R_S2', y: 'band_speed_ratio', xscale: 'log', yscale: 'log', color: 'class' };
     assert.deepEqual(p.spec, spec0);
