@@ -306,16 +306,6 @@ struct Gather {
   }
 };
 
-StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
-  StepMeasure m;
-  m.max_v2 = std::isnan(a.max_v2) || std::isnan(b.max_v2) ? std::nan("")
-                                                           : std::max(a.max_v2, b.max_v2);
-  m.y_min = std::min(a.y_min, b.y_min), m.y_max = std::max(a.y_max, b.y_max);
-  m.x_min = std::min(a.x_min, b.x_min), m.x_max = std::max(a.x_max, b.x_max);
-  m.bad_jacobian = a.bad_jacobian || b.bad_jacobian;
-  return m;
-}
-
 }  // namespace
 
 // Threads take chunks of kChunk particles in turn: the return mapping costs more where the

@@ -82,18 +82,12 @@ StepMeasure update_particles(State3D& s, double dt, std::size_t begin, std::size
 }  // namespace
 
 // With threads, each updates a share of the particles (each writes only its own); their
-// measures are combined in thread order (the largest speed, NaN if any is, the extent in y).
+// measures are combined (state.hpp's combine).
 void g2p_3d(State3D& s, double dt, ThreadPool& pool) {
   const std::size_t n = s.particles.n;
   pool.run([&](int t) { s.partial_measures[t] = update_particles(s, dt, pool.begin(n, t), pool.end(n, t)); });
   StepMeasure m = s.partial_measures[0];
-  for (int t = 1; t < pool.size(); ++t) {
-    const StepMeasure& o = s.partial_measures[t];
-    m.bad_jacobian = m.bad_jacobian || o.bad_jacobian;
-    m.max_v2 = std::isnan(m.max_v2) || std::isnan(o.max_v2) ? std::nan("") : std::max(m.max_v2, o.max_v2);
-    m.y_min = std::min(m.y_min, o.y_min);
-    m.y_max = std::max(m.y_max, o.y_max);
-  }
+  for (int t = 1; t < pool.size(); ++t) m = combine(m, s.partial_measures[t]);
   s.measure = m;
 }
 

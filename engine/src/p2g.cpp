@@ -14,7 +14,6 @@
 // own, else into its scratch arrays, summed into the grid afterwards (scatter_rows.hpp).
 #include <algorithm>
 #include <cstring>
-#include <limits>
 
 #include "kernel.hpp"
 #include "pore_contact.hpp"
@@ -48,37 +47,6 @@ void clear_nodes(const Grid& g, NodeArrays& a, std::size_t lo, std::size_t hi) {
     if (!v->empty()) std::fill(v->begin() + lo, v->begin() + hi, 0.0);
   }
   if (!a.normal.empty()) std::fill(a.normal.begin() + lo, a.normal.begin() + hi, NodeNormal{0, 0});
-}
-
-// The rows [lo, hi) that particles [begin, end) reach with their stencils. A stencil's first
-// row rises with y, so the lowest and the highest particle set them: a minimum and a maximum
-// in eight lanes, a loop that vectorises (a NaN position, which the stability checks stop the
-// run for, is passed over).
-void reach(const Particles& P, const Grid& g, std::size_t begin, std::size_t end, int& lo,
-           int& hi) {
-  constexpr std::size_t kLanes = 8;
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  double y_min[kLanes], y_max[kLanes];
-  std::fill(y_min, y_min + kLanes, inf);
-  std::fill(y_max, y_max + kLanes, -inf);
-  const double* __restrict y = P.y.data();
-  std::size_t p = begin;
-  for (; p + kLanes <= end; p += kLanes) {
-    for (std::size_t j = 0; j < kLanes; ++j) {
-      y_min[j] = std::min(y_min[j], y[p + j]), y_max[j] = std::max(y_max[j], y[p + j]);
-    }
-  }
-  for (std::size_t j = 0; p < end; ++p, ++j) {
-    y_min[j] = std::min(y_min[j], y[p]), y_max[j] = std::max(y_max[j], y[p]);
-  }
-  const double lowest = *std::min_element(y_min, y_min + kLanes);
-  const double highest = *std::max_element(y_max, y_max + kLanes);
-  if (!(lowest <= highest)) {  // no particles (or none with a position)
-    lo = hi = 0;
-    return;
-  }
-  lo = kernel::quadratic(lowest * g.inv_dx + g.gy).base;
-  hi = kernel::quadratic(highest * g.inv_dx + g.gy).base + 3;
 }
 
 // Zeroes thread t's scratch on the rows it may write there: those near a shared row.
@@ -374,7 +342,7 @@ void p2g(State& s, double dt, ThreadPool& pool) {
   // 1. The grid's rows zeroed, a share each; the rows each thread's particles reach.
   pool.run([&](int t) {
     clear_nodes(g, g.arrays, lo + pool.begin(count, t), lo + pool.end(count, t));
-    if (threads) reach(P, g, pool.begin(n, t), pool.end(n, t), rows.lo[t], rows.hi[t]);
+    if (threads) stencil_rows(P.y.data(), pool.begin(n, t), pool.end(n, t), g.inv_dx, g.gy, rows.lo[t], rows.hi[t]);
   });
   if (threads) rows.plan(g.row_lo, g.row_hi);
   // 2. split_fields: the node normals, which pick the field of each particle-node pair.

@@ -8,7 +8,6 @@
 // summed into the grid afterwards in thread order. One thread adds every particle to the grid in
 // order, so its result has the bits of the loop without threads.
 #include <algorithm>
-#include <limits>
 
 #include "kernel_3d.hpp"
 #include "stages_3d.hpp"
@@ -16,23 +15,6 @@
 namespace compaction {
 
 namespace {
-
-// The first stencil layer of a particle at height y.
-int base_layer(const Grid3D& g, double y) { return kernel::quadratic(y * g.inv_dx + g.gy).base; }
-
-// The layers [lo, hi) that particles [begin, end) reach with their stencils (none for a NaN
-// position, which the stability checks stop the run for).
-void reach(const Particles3D& P, const Grid3D& g, std::size_t begin, std::size_t end, int& lo,
-           int& hi) {
-  double y_min = std::numeric_limits<double>::infinity(), y_max = -y_min;
-  for (std::size_t p = begin; p < end; ++p) y_min = std::min(y_min, P.y[p]), y_max = std::max(y_max, P.y[p]);
-  if (!(y_min <= y_max)) {
-    lo = hi = 0;
-    return;
-  }
-  lo = base_layer(g, y_min);
-  hi = base_layer(g, y_max) + 3;
-}
 
 // Particles [begin, end) into `own` (null: all into the grid), or into the grid where their
 // three layers are `alone` to this thread.
@@ -88,7 +70,10 @@ void p2g_3d(State3D& s, double dt, ThreadPool& pool) {
   pool.run([&](int t) {
     std::fill(g.nodes.begin() + lo + pool.begin(count, t), g.nodes.begin() + lo + pool.end(count, t),
               Node3D{0, 0, 0, 0});
-    if (threads) reach(s.particles, g, pool.begin(n, t), pool.end(n, t), rows.lo[t], rows.hi[t]);
+    if (threads) {
+      stencil_rows(s.particles.y.data(), pool.begin(n, t), pool.end(n, t), g.inv_dx, g.gy, rows.lo[t],
+                   rows.hi[t]);
+    }
   });
   if (threads) rows.plan(g.row_lo, g.row_hi);
   // 2. Mass and momentum: thread 0 into the grid, the others into the grid or their scratch

@@ -1,4 +1,4 @@
-// Which grid rows each P2G thread writes alone (p2g.cpp).
+// Which grid rows each P2G thread writes alone (p2g.cpp; p2g_3d.cpp, a row being a y-layer).
 //
 // A thread scatters a contiguous share of the particles, and the scene's lattice order keeps a
 // share in a band of rows (particles move less than a cell per step and never far from their
@@ -11,10 +11,44 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+#include "kernel.hpp"
+
 namespace compaction {
+
+// The rows [lo, hi) that particles at heights y[begin, end) reach with their stencils, on a grid
+// of spacing 1 / inv_dx whose row gy is at y = 0. A stencil's first row rises with y, so the
+// lowest and the highest particle set them: a minimum and a maximum in eight lanes, a loop that
+// vectorises (a NaN position, which the stability checks stop the run for, is passed over).
+inline void stencil_rows(const double* __restrict y, std::size_t begin, std::size_t end,
+                         double inv_dx, int gy, int& lo, int& hi) {
+  constexpr std::size_t kLanes = 8;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  double y_min[kLanes], y_max[kLanes];
+  std::fill(y_min, y_min + kLanes, inf);
+  std::fill(y_max, y_max + kLanes, -inf);
+  std::size_t p = begin;
+  for (; p + kLanes <= end; p += kLanes) {
+    for (std::size_t j = 0; j < kLanes; ++j) {
+      y_min[j] = std::min(y_min[j], y[p + j]), y_max[j] = std::max(y_max[j], y[p + j]);
+    }
+  }
+  for (std::size_t j = 0; p < end; ++p, ++j) {
+    y_min[j] = std::min(y_min[j], y[p]), y_max[j] = std::max(y_max[j], y[p]);
+  }
+  const double lowest = *std::min_element(y_min, y_min + kLanes);
+  const double highest = *std::max_element(y_max, y_max + kLanes);
+  if (!(lowest <= highest)) {  // no particles (or none with a position)
+    lo = hi = 0;
+    return;
+  }
+  lo = kernel::quadratic(lowest * inv_dx + gy).base;
+  hi = kernel::quadratic(highest * inv_dx + gy).base + 3;
+}
 
 struct ScatterRows {
   std::vector<int> lo, hi;          // thread t's particles reach rows [lo[t], hi[t])

@@ -3,6 +3,8 @@
 // operate on it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -97,6 +99,18 @@ struct StepMeasure {
   double y_min = 0.0, y_max = 0.0, x_min = 0.0, x_max = 0.0;
   bool bad_jacobian = false; // some particle had J <= 0 or a non-finite state
 };
+
+// The measures of two sets of particles as one: maxima, minima (NaN speeds win) and an or, so the
+// result does not depend on the order the sets are combined in.
+inline StepMeasure combine(const StepMeasure& a, const StepMeasure& b) {
+  StepMeasure m;
+  m.max_v2 = std::isnan(a.max_v2) || std::isnan(b.max_v2) ? std::nan("")
+                                                           : std::max(a.max_v2, b.max_v2);
+  m.y_min = std::min(a.y_min, b.y_min), m.y_max = std::max(a.y_max, b.y_max);
+  m.x_min = std::min(a.x_min, b.x_min), m.x_max = std::max(a.x_max, b.x_max);
+  m.bad_jacobian = a.bad_jacobian || b.bad_jacobian;
+  return m;
+}
 
 // The plates' y-impulses on the material over some rows of one step.
 struct PlateImpulses {
