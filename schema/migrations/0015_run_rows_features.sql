@@ -2,9 +2,9 @@
 -- wall time, so GET /api/v1/jobs filters, sorts and plots by them (the Plots page offers every
 -- numeric column: the deflection before yield against R, the coherence against S). A feature is
 -- a number, or NULL when the result's features lack it, hold null (NaN: not measured) or hold
--- something else, by the rule of the phase map's band-speed columns (0008). The rows grow from
--- about 90 to about 250 bytes: a scan of 100 000 runs stays one pass over 25 MB
--- (bench/results/jobs_table.md). Never edit once applied: add 0016_*.sql instead.
+-- something else, by the rule of the phase map's band-speed columns (0008). The rows grow by
+-- these columns; a scan stays one pass over the table (its size and cost at 100 000 runs:
+-- bench/results/jobs_table.md). Never edit once applied: add 0016_*.sql instead.
 
 ALTER TABLE run_rows ADD COLUMN first_reflection_eps REAL;
 ALTER TABLE run_rows ADD COLUMN speed_excess REAL;
