@@ -1,10 +1,11 @@
 // Engine speed on the reference scene: pseudo-1D, phi = 0.4, 20 cells per unit cell, 2 x 2
-// particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008), one thread unless the
-// benchmark says otherwise; on the large scene, the same column at 40 cells per unit cell
-// (86 904 particles, the `reference` preset's grid at phi = 0.4), ~1600 steps (eps 0 -> 0.002),
-// on one and two threads; and on the 3D column at 8 cells per unit cell, on one and two threads. Reports ns per
-// particle-step (time-stepping loop only, scene building excluded) and its split by stage. Run
-// it with bench/run_engine_bench.sh.
+// particles per cell, S = 4e-3, R = 1e-5, ~3200 steps (eps 0 -> 0.008); on the large scene, the
+// same column at 40 cells per unit cell (86 904 particles, the `reference` preset's grid at
+// phi = 0.4), ~1600 steps (eps 0 -> 0.002); and on the 3D column at 8 cells per unit cell.
+// One velocity field (pore_contact = single_field) unless the variant's name says SplitFields
+// (two, the default preset's numerics on these scenes); one thread unless it says otherwise.
+// Reports ns per particle-step (time-stepping loop only, scene building excluded) and its split
+// by stage. Run it with bench/run_engine_bench.sh.
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -17,6 +18,7 @@ compaction::SceneParams reference_scene() {
   compaction::SceneParams p;
   p.S = 4e-3, p.R = 1e-5, p.phi = 0.4;
   p.cells_per_unit = 20, p.particles_per_cell = 2;
+  p.pore_contact = compaction::PoreContact::single_field;  // SceneParams' default is auto
   p.eps_end = 0.008;
   p.snapshot_eps = {};
   return p;
