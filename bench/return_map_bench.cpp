@@ -1,6 +1,7 @@
 // The constitutive update alone, per call: the 2D closed form (plasticity.hpp) against the 3D
-// return mapping (plasticity_3d.hpp), and the eigen-decomposition of b it needs three ways: the
-// Jacobi rotations return_map_3d uses (sym_eigen_3d.hpp), Eigen's iterative solver
+// return mapping (plasticity_3d.hpp) by its power series and in principal space, and the
+// eigen-decomposition of b the principal update needs three ways: the Jacobi rotations it uses
+// (sym_eigen_3d.hpp), Eigen's iterative solver
 // (SelfAdjointEigenSolver::compute) and Eigen's closed form (computeDirect, not accurate enough
 // for the column's equal eigenvalues). This is what bounds the 3D engine's G2P
 // (docs/engine.md, "The 3D column").
@@ -78,7 +79,8 @@ void BM_ReturnMap2D(benchmark::State& state) {
   per_call(state, yielded);
 }
 
-void BM_ReturnMap3D(benchmark::State& state) {
+template <double (*kReturnMap)(Mat3&, const compaction::Material3D&, Mat3&)>
+void return_map_3d_calls(benchmark::State& state) {
   const auto in = states_3d();
   const auto m = material_3d();
   Mat3 tau;
@@ -87,11 +89,22 @@ void BM_ReturnMap3D(benchmark::State& state) {
     yielded = 0;
     for (const auto& f0 : in) {
       Mat3 f = f0;
-      yielded += compaction::return_map_3d(f, m, tau) > 0.0;
+      yielded += kReturnMap(f, m, tau) > 0.0;
       benchmark::DoNotOptimize(tau);
     }
   }
   per_call(state, yielded);
+}
+
+// What the engine runs: the power series, the principal update where they do not hold (none of
+// these states).
+void BM_ReturnMap3D(benchmark::State& state) {
+  return_map_3d_calls<compaction::return_map_3d>(state);
+}
+
+// The update in principal space (Jacobi rotations) for every state.
+void BM_ReturnMap3D_Principal(benchmark::State& state) {
+  return_map_3d_calls<compaction::return_map_3d_principal>(state);
 }
 
 void BM_EigenSolver3D_Compute(benchmark::State& state) {
@@ -135,6 +148,7 @@ void BM_EigenSolver3D_ComputeDirect(benchmark::State& state) {
 
 BENCHMARK(BM_ReturnMap2D);
 BENCHMARK(BM_ReturnMap3D);
+BENCHMARK(BM_ReturnMap3D_Principal);
 BENCHMARK(BM_EigenSolver3D_Compute);
 BENCHMARK(BM_EigenSolver3D_Jacobi);
 BENCHMARK(BM_EigenSolver3D_ComputeDirect);

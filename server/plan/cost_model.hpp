@@ -27,10 +27,11 @@ inline constexpr double kBsplineFactor = 1.30;
 inline constexpr double kSplitFieldsFactor = 1.76;
 // Full 2D: 49 ns against 29 per particle-step (wider rows, side walls; studies/savings/README.md).
 inline constexpr double kFull2dFactor = 49.0 / 29.0;
-// The 3D column (pseudo1d_3d, one thread): 227.5 ns per particle-step against the reference
-// scene's 19.3 in the same run of engine_bench (bench/results/engine_bench.md, 2026-12-05,
-// engine 0.2.2, the AVX-512 copy; G2P with the 3D return mapping is 181.6 ns of it).
-inline constexpr double k3dFactor = 11.76;
+// The 3D column (pseudo1d_3d, one thread) against the reference scene (one field), per
+// particle-step in the same run of engine_bench: the median of three runs, 8.25
+// (bench/results/return_map_3d_series.md, 2026-12-07, the return mapping by power series and the
+// AVX-512 copy of the 3D loops; 11.76 before them).
+inline constexpr double k3dFactor = 8.25;
 
 // Particles: a regular structure's lattice less its holes, as the scene builders place them
 // (21 726 for the pseudo-1D column at 20 cells per unit cell and phi = 0.4; 64 566 for the 3D

@@ -27,11 +27,11 @@ def estimate(numerics):
 
 # The 3D column at 8 cells holds 34 rows of 16^3 - 13^3 particles (the cubic hole 16 cbrt(0.6)
 # = 13.5 particles across), the 2D one 34 rows of 16^2 - 12^2 (16 sqrt(0.6) = 12.4): 17 times
-# the particles, each step 11.76 times the price (the cost model's
+# the particles, each step 8.25 times the price (the cost model's
 # factor); the time steps are the same grid's. Tolerance 1 %: the steps' count differs by the
 # grid spacing's rounding only.
 ratio = estimate(numerics_3d) / estimate(numerics_2d)
-check(abs(ratio / (1899 / 112 * 11.76) - 1) < 0.01, "3D estimate / 2D estimate = %.1f" % ratio)
+check(abs(ratio / (1899 / 112 * 8.25) - 1) < 0.01, "3D estimate / 2D estimate = %.1f" % ratio)
 
 s3 = env.submit({"name": "3d", "points": [point], "numerics": numerics_3d})
 s2 = env.submit({"name": "2d", "points": [point], "numerics": numerics_2d})

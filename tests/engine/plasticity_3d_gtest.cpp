@@ -2,13 +2,18 @@
 // oracle: uniaxial strain and uniaxial stress paths through yield, the elastic state left alone,
 // the return landing on the yield surface with the volume kept, isotropy under rotations, and
 // an oracle that forms the Hencky strain and the plastic correction as matrices (log and exp
-// through their own decompositions) instead of in principal space.
+// through their own decompositions) instead of in principal space. Each runs on return_map_3d
+// (the power series, handing back what they do not hold) and on return_map_3d_principal (every
+// state in principal space); the series alone are checked against the principal update and for
+// where they hold.
 #include "plasticity_3d.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <string>
 
 #include "splitmix64.hpp"
 
@@ -69,12 +74,19 @@ Oracle oracle(const Mat3& fe, const Material3D& m) {
   return o;
 }
 
+// The update under test: return_map_3d or return_map_3d_principal.
+using Update = double (*)(Mat3&, const Material3D&, Mat3&);
+class Plasticity3dGtest : public ::testing::TestWithParam<Update> {
+ protected:
+  double update(Mat3& fe, const Material3D& m, Mat3& tau) const { return GetParam()(fe, m, tau); }
+};
+
 // Uniaxial strain F = diag(1, 1 - e, 1) in many increments, as the engine applies it. Closed
 // form: e = diag(0, log J, 0), |dev(e)| = sqrt(2/3) |log J|, cut back to dev_yield; tau_i =
 // (lambda + 2 mu / 3) log J + 2 mu dev_i; accumulated plastic strain sqrt(2/3) |log J| -
 // dev_yield. Tolerance 1e-10 of |tau|: the update is exact, so only round-off over 1e5 steps
 // remains.
-TEST(Plasticity3dGtest, UniaxialStrainStressPathMatchesClosedFormThroughYield) {
+TEST_P(Plasticity3dGtest, UniaxialStrainStressPathMatchesClosedFormThroughYield) {
   const Material3D m = material();
   Mat3 fe = Mat3::Identity(), tau;
   double plastic = 0.0;
@@ -84,7 +96,7 @@ TEST(Plasticity3dGtest, UniaxialStrainStressPathMatchesClosedFormThroughYield) {
   for (int n = 1; n <= steps; ++n) {
     const double e_old = e_max * (n - 1) / steps, e_new = e_max * n / steps;
     fe.row(1) *= (1 - e_new) / (1 - e_old);
-    plastic += return_map_3d(fe, m, tau);
+    plastic += update(fe, m, tau);
     if (n % 997 != 0 && n != steps) continue;
     const double log_j = std::log(1 - e_new);
     const double norm = std::sqrt(2.0 / 3.0) * -log_j;
@@ -110,7 +122,7 @@ TEST(Plasticity3dGtest, UniaxialStrainStressPathMatchesClosedFormThroughYield) {
 // by 2 (lambda + mu) 1.1e-16 ~ 5e-16 E); at R = 1e-5, 1e-10 q_y would be that round-off itself.
 // The plastic strain, a sum of 1500 increments with ~1e-16 round-off each, to 1e-10 of its
 // final value.
-TEST(Plasticity3dGtest, UniaxialStressPathMatchesClosedFormThroughYield) {
+TEST_P(Plasticity3dGtest, UniaxialStressPathMatchesClosedFormThroughYield) {
   const double q_y = 1e-3 * kE;
   const Material3D m = material(q_y);
   const double yield_strain = q_y / kE;
@@ -125,7 +137,7 @@ TEST(Plasticity3dGtest, UniaxialStressPathMatchesClosedFormThroughYield) {
     // Lateral stress of the trial update for a lateral log-stretch increment g.
     auto lateral = [&](double g, Mat3& f, Mat3& t) {
       f = Vec3(std::exp(g), std::exp(d_eps), std::exp(g)).asDiagonal() * fe;
-      const double p = return_map_3d(f, m, t);
+      const double p = update(f, m, t);
       return std::pair{t(0, 0), p};
     };
     double g0 = -kNu * d_eps, g1 = 0.0;
@@ -152,27 +164,27 @@ TEST(Plasticity3dGtest, UniaxialStressPathMatchesClosedFormThroughYield) {
 }
 
 // Below yield the update changes nothing and returns 0 (bit for bit on Fe).
-TEST(Plasticity3dGtest, ElasticStateIsLeftUnchanged) {
+TEST_P(Plasticity3dGtest, ElasticStateIsLeftUnchanged) {
   const Material3D m = material(kQy * 1e6);  // yield far away: every state below is elastic
   SplitMix64 rng{3};
   for (int trial = 0; trial < 2000; ++trial) {
     const Mat3 fe0 = random_fe(rng, 0.05, 0.2);
     Mat3 fe = fe0, tau;
-    EXPECT_EQ(return_map_3d(fe, m, tau), 0.0);
+    EXPECT_EQ(update(fe, m, tau), 0.0);
     EXPECT_EQ(fe, fe0);
   }
 }
 
 // Past yield (up to 20 x the yield strain), the returned stress lies on the yield surface,
 // q = q_y to 1e-10 relative, with the mean stress (3 lambda + 2 mu) / 3 log J kept.
-TEST(Plasticity3dGtest, ReturnLandsOnYieldSurfaceAndKeepsVolume) {
+TEST_P(Plasticity3dGtest, ReturnLandsOnYieldSurfaceAndKeepsVolume) {
   const Material3D m = material();
   SplitMix64 rng{5};
   int plastic_states = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     Mat3 fe = random_fe(rng, 20 * kQy / kE, 0.1), tau;
     const double log_j = std::log(fe.determinant());
-    const double plastic = return_map_3d(fe, m, tau);
+    const double plastic = update(fe, m, tau);
     EXPECT_NEAR(std::log(fe.determinant()), log_j, 1e-14);  // the cut is isochoric
     EXPECT_NEAR(tau.trace(), (3 * m.lambda + 2 * m.mu) * log_j, 1e-10 * std::abs(tau.trace()) + 1e-6);
     if (plastic > 0.0) {
@@ -188,7 +200,7 @@ TEST(Plasticity3dGtest, ReturnLandsOnYieldSurfaceAndKeepsVolume) {
 // Isotropy (frame indifference of the left stretch): Fe -> R Fe gives tau -> R tau R^T and
 // Fe_out -> R Fe_out, elastic and plastic, from near-isotropic strains (1e-7, where the eigen
 // vectors are ill-conditioned) to large ones (0.2). Tolerance: 1e-10 of |tau| and 1e-12 on Fe.
-TEST(Plasticity3dGtest, RotatedInputGivesRotatedOutput) {
+TEST_P(Plasticity3dGtest, RotatedInputGivesRotatedOutput) {
   SplitMix64 rng{9};
   for (double amplitude : {1e-7, 1e-5, 1e-3, 0.2}) {
     for (double q_y : {kQy, kQy * 1e4}) {
@@ -196,7 +208,7 @@ TEST(Plasticity3dGtest, RotatedInputGivesRotatedOutput) {
       for (int trial = 0; trial < 500; ++trial) {
         const Mat3 fe0 = random_fe(rng, amplitude, 0.3), r = random_rotation(rng);
         Mat3 fe = fe0, tau, fe_r = r * fe0, tau_r;
-        const double p = return_map_3d(fe, m, tau), p_r = return_map_3d(fe_r, m, tau_r);
+        const double p = update(fe, m, tau), p_r = update(fe_r, m, tau_r);
         const double scale = tau.cwiseAbs().maxCoeff();
         EXPECT_LT((r * tau * r.transpose() - tau_r).cwiseAbs().maxCoeff(), 1e-10 * scale);
         EXPECT_LT((r * fe - fe_r).cwiseAbs().maxCoeff(), 1e-12);
@@ -209,14 +221,14 @@ TEST(Plasticity3dGtest, RotatedInputGivesRotatedOutput) {
 // The principal-space update against the matrix form of the return (oracle above), over random
 // states from near-isotropic to 20 x past yield.
 // Tolerance 1e-10 of |tau| and 1e-12 on Fe and the plastic increment.
-TEST(Plasticity3dGtest, MatchesMatrixFormOracle) {
+TEST_P(Plasticity3dGtest, MatchesMatrixFormOracle) {
   SplitMix64 rng{21};
   for (double amplitude : {1e-7, 1e-5, 2e-4, 0.1}) {
     const Material3D m = material();
     for (int trial = 0; trial < 1000; ++trial) {
       Mat3 fe = random_fe(rng, amplitude, 0.5), tau;
       const Oracle o = oracle(fe, m);
-      const double p = return_map_3d(fe, m, tau);
+      const double p = update(fe, m, tau);
       const double scale = o.tau.cwiseAbs().maxCoeff();
       EXPECT_LT((tau - o.tau).cwiseAbs().maxCoeff(), 1e-10 * scale) << amplitude;
       EXPECT_LT((fe - o.fe).cwiseAbs().maxCoeff(), 1e-12) << amplitude;
@@ -225,14 +237,89 @@ TEST(Plasticity3dGtest, MatchesMatrixFormOracle) {
   }
 }
 
-TEST(Plasticity3dGtest, InvertedOrNonFiniteStateIsReportedAsNan) {
+TEST_P(Plasticity3dGtest, InvertedOrNonFiniteStateIsReportedAsNan) {
   const Material3D m = material();
   Mat3 fe = Mat3::Identity(), tau;
   fe(1, 1) = -1.0;
-  EXPECT_TRUE(std::isnan(return_map_3d(fe, m, tau)));
+  EXPECT_TRUE(std::isnan(update(fe, m, tau)));
   fe = Mat3::Identity();
   fe(0, 1) = std::nan("");
-  EXPECT_TRUE(std::isnan(return_map_3d(fe, m, tau)));
+  EXPECT_TRUE(std::isnan(update(fe, m, tau)));
+}
+
+INSTANTIATE_TEST_SUITE_P(Updates, Plasticity3dGtest,
+                         ::testing::Values(&return_map_3d, &return_map_3d_principal),
+                         [](const auto& info) {
+                           return std::string(info.index == 0 ? "Series" : "Principal");
+                         });
+
+// The power series against the principal update, where the series hold: random states from
+// near-isotropic (1e-7) to strains of 0.05, elastic and past yield. Both are exact to round-off;
+// the principal update resolves strains to a few ulp of |b| ~ 1 (2e-16 measured), so the
+// tolerance is 1e-14 on the strain (tau / 2 mu), on Fe and on the plastic increment.
+TEST(Plasticity3dSeriesGtest, AgreesWithPrincipalUpdate) {
+  SplitMix64 rng{33};
+  int series = 0, plastic_states = 0;
+  for (double amplitude : {1e-7, 1e-5, 1e-3, 1e-2, 0.05}) {
+    for (double q_y : {kQy, kQy * 1e3}) {
+      const Material3D m = material(q_y);
+      for (int trial = 0; trial < 1000; ++trial) {
+        const Mat3 fe0 = random_fe(rng, amplitude, 0.1);
+        Mat3 fe_s = fe0, tau_s, fe_p = fe0, tau_p;
+        double p_s = 0.0;
+        if (!return_map_3d_series(fe_s, m, tau_s, p_s)) continue;
+        ++series, plastic_states += p_s > 0.0;
+        const double p_p = return_map_3d_principal(fe_p, m, tau_p);
+        EXPECT_LT((tau_s - tau_p).cwiseAbs().maxCoeff(), 1e-14 * 2 * m.mu) << amplitude;
+        EXPECT_LT((fe_s - fe_p).cwiseAbs().maxCoeff(), 1e-14) << amplitude;
+        EXPECT_NEAR(p_s, p_p, 1e-14) << amplitude;
+      }
+    }
+  }
+  EXPECT_GT(series, 8000);          // most states are in the series' range
+  EXPECT_GT(plastic_states, 3000);  // and the plastic cut is exercised
+}
+
+// The series hold for the states a column meets: elastic principal strains up to 0.08 (a
+// solid of q_y = 0.1 E yields at |dev(e)| = 0.106; stronger ones reach strains that the series
+// leave to the principal update) and the plastic cut of one
+// step, far below 2^-5. They hand back, with Fe and
+// tau untouched, what they do not hold: a strain of 0.6 (|Z| > 1/4), a cut of 0.05 in one
+// step, an inverted or non-finite state.
+TEST(Plasticity3dSeriesGtest, HoldWhereTheColumnLivesAndHandBackTheRest) {
+  const Material3D weak = material(), strong = material(0.1 * kE);
+  SplitMix64 rng{35};
+  for (int trial = 0; trial < 1000; ++trial) {
+    Mat3 fe = random_fe(rng, 0.05, 0.1), tau;
+    double plastic = -1.0;
+    EXPECT_TRUE(return_map_3d_series(fe, strong, tau, plastic));
+    EXPECT_EQ(plastic, 0.0);
+    Mat3 f_step = Mat3::Identity();  // one step's cut past yield, as in the time step
+    f_step(1, 1) = 1.0 - 2.0 * kQy / kE;
+    EXPECT_TRUE(return_map_3d_series(f_step, weak, tau, plastic));
+    EXPECT_GT(plastic, 0.0);
+  }
+  const Mat3 sentinel = Mat3::Constant(7.0);
+  auto hands_back = [&](Mat3 fe, const Material3D& m) {
+    const Mat3 fe0 = fe;
+    Mat3 tau = sentinel;
+    double plastic = -1.0;
+    const bool held = return_map_3d_series(fe, m, tau, plastic);
+    return !held && std::memcmp(fe.data(), fe0.data(), sizeof fe) == 0 && tau == sentinel &&
+           plastic == -1.0;
+  };
+  Mat3 large = Mat3::Identity();  // a strain of 0.6: |Z| = tanh(0.6) = 0.54
+  large(1, 1) = std::exp(-0.6);
+  EXPECT_TRUE(hands_back(large, strong));
+  Mat3 cut = Mat3::Identity();  // |dev(e)| = sqrt(2/3) 0.07 = 0.057 past a yield of 1e-5
+  cut(1, 1) = std::exp(-0.07);
+  EXPECT_TRUE(hands_back(cut, weak));
+  Mat3 inverted = Mat3::Identity();
+  inverted(1, 1) = -1.0;
+  EXPECT_TRUE(hands_back(inverted, weak));
+  Mat3 not_finite = Mat3::Identity();
+  not_finite(0, 1) = std::nan("");
+  EXPECT_TRUE(hands_back(not_finite, weak));
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 // The hot loops' AVX2 and AVX-512 copies give the same result bits as their baseline copy
 // (engine/src/simd_dispatch.hpp), so that a result does not depend on the processor a worker
-// runs on. A copy that this processor cannot run is skipped. Small scenes that reach every variant of both loops: APIC and PIC/FLIP, MLS and
-// B-spline gradients, plastic particles and particles whose large elastic strains (R = 0.1) need
-// the return mapping's long series, pseudo-1D and full 2D, one and two threads.
+// runs on. A copy that this processor cannot run is skipped. Small scenes that reach every
+// variant of both loops: APIC and PIC/FLIP, MLS and B-spline gradients, plastic particles and
+// particles whose large elastic strains (R = 0.1) need the return mapping's long series,
+// pseudo-1D and full 2D, one and two threads; and the 3D column (its scatter and its particle
+// update with the series return mapping), yielding, on two threads.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "compaction/simulation.hpp"
+#include "small_column_3d.hpp"
 
 namespace compaction {
 namespace {
@@ -60,6 +63,11 @@ SceneParams case_params(const std::string& name) {
     p.gradient = Gradient::bspline, p.threads = 2;
     return p;
   }
+  if (name == "Column3dPlasticTwoThreads") {
+    p = small_column_3d();
+    p.threads = 2;
+    return p;
+  }
   p = scene(0.02, 4e-4);  // "ApicMlsTwoThreads"
   p.threads = 2;
   return p;
@@ -93,7 +101,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SimdCopiesGtest,
                          testing::Values("ApicMlsPlasticBand",
                                          "LargeElasticStrainTakesTheLongSeries",
                                          "PicFlipBspline", "Full2dBsplineTwoThreads",
-                                         "ApicMlsTwoThreads"),
+                                         "ApicMlsTwoThreads", "Column3dPlasticTwoThreads"),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 }  // namespace
