@@ -6,7 +6,8 @@
 // through the changes, paging by the cursor forward and back (no duplicate, no gap), the CSV
 // link's query, the page's checks and the server's 422 at its field, the URL state across a
 // reload, the links map -> table -> map and a pinned point's link to its runs (three replicates
-// added at phi 0.5), and the width at 390 x 844. Screenshots go to $BROWSER_ARTIFACTS_DIR.
+// added at phi 0.5), the choice of columns (the cells and the CSV of the chosen ones, named as
+// people read them, kept across a reload, back to the default), and the width at 390 x 844. Screenshots go to $BROWSER_ARTIFACTS_DIR.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
@@ -14,6 +15,7 @@ import { join } from 'node:path';
 import { Harness, REPO, artifactsDir, binaries, canvasBox, waitFor } from './lib/harness.mjs';
 import { completeAll } from './lib/labelled.mjs';
 import { fillMap, verdict } from './lib/mapfill.mjs';
+import { DEFAULT_COLUMNS } from '../../web/js/runquery.js';
 
 const EXPORT = join(REPO, 'studies', 'phase_map', 'results', 'sweep-2.export.json');
 
@@ -85,7 +87,7 @@ test('the Runs page: filters, sort, cursor pages, count, CSV, URL state, map lin
       assert.deepEqual(await shownIds(page), want.rows.map((x) => x.id), `rows of ${c}`);
       assert.equal(await shownTotal(page), want.total, `count of ${c}`);
       assert.equal(r.total, want.total);
-      assert.deepEqual(paramsOf(r.query), { ...paramsOf(c), format: 'table' }, `the page asks what its URL says (${c})`);
+      assert.deepEqual(paramsOf(r.query), { ...paramsOf(c), columns: DEFAULT_COLUMNS.join(','), format: 'table' }, `the page asks what its URL says (${c})`);
       assert.ok(want.total < 226 || c === 'state=succeeded', `${c} narrows the set`);
     }
 
@@ -145,6 +147,49 @@ test('the Runs page: filters, sort, cursor pages, count, CSV, URL state, map lin
     const csv = await (await fetch(`${h.url}${href}`)).text();
     const csvIds = csv.trim().split('\n').slice(1).map((l) => Number(l.split(',')[0]));
     assert.deepEqual(csvIds, want.rows.map((x) => x.id));
+
+    // The choice of columns: two of the classifier's features added to the default ones. The
+    // cells are the server's for the same columns, the heads name them as the Plots page does,
+    // the CSV holds the same columns, the URL keeps the choice across a reload, and "default"
+    // takes it back out of the URL.
+    assert.deepEqual(await page.$$eval('#rt-table th[data-col]', (ths) => ths.map((t) => t.dataset.col)), DEFAULT_COLUMNS);
+    await page.locator('#rt-cols > summary').click();
+    await mark(page);
+    await page.locator('#rt-cols-list input[data-col="deflection_before_yield"]').check();
+    await answered(page, 'one more column');
+    await mark(page);
+    await page.locator('#rt-cols-list input[data-col="coherence"]').check();
+    const rc = await answered(page, 'two more columns');
+    const chosen = (await jobs('format=table&limit=1')).columns.filter((c) => [...DEFAULT_COLUMNS, 'coherence', 'deflection_before_yield'].includes(c));
+    assert.equal(chosen.length, DEFAULT_COLUMNS.length + 2);
+    assert.equal((await hashParams(page)).columns, chosen.join(','));
+    assert.equal(paramsOf(rc.query).columns, chosen.join(','));
+    assert.deepEqual(await page.$$eval('#rt-table th[data-col]', (ths) => ths.map((t) => t.dataset.col)), chosen);
+    assert.equal(await page.locator('#rt-table th[data-col="deflection_before_yield"]').innerText(), 'deflection before yield');
+    assert.match(await page.locator('#rt-cols-count').innerText(), new RegExp(`\\(${chosen.length} of \\d+\\)`));
+    const withCols = await jobs(`class=c&confidence_max=0.8&sort=-confidence&columns=${chosen.join(',')}&format=table`);
+    const cells = await page.$$eval('#rt-table tbody tr[data-id]', (trs) => trs.map((t) => t.querySelector('td[data-col="coherence"]').innerText));
+    assert.deepEqual(cells, withCols.rows.map((x) => (x.coherence === null ? '—' : String(x.coherence))), 'the coherence cells are the server\'s');
+    assert.ok(withCols.rows.some((x) => x.coherence !== null), 'some run has a coherence');
+    const csvHead = (await (await fetch(`${h.url}${await page.locator('#rt-csv').getAttribute('href')}`)).text()).split('\n')[0];
+    assert.equal(csvHead, chosen.join(','), 'the CSV holds the columns shown');
+    await mark(page);
+    await page.reload();
+    await answered(page, 'the columns reloaded');
+    assert.deepEqual(await page.$$eval('#rt-table th[data-col]', (ths) => ths.map((t) => t.dataset.col)), chosen);
+    assert.equal(await page.locator('#rt-cols-list input[data-col="coherence"]').isChecked(), true);
+    assert.equal(await page.locator('#rt-cols-list input[data-col="id"]').isDisabled(), true, 'the run id is always shown');
+    await page.locator('#rt-cols > summary').click();
+    await shot(page, '64-runs-columns');
+    await mark(page);
+    await page.locator('#rt-cols-default').click();
+    await answered(page, 'the default columns');
+    assert.equal((await hashParams(page)).columns, undefined);
+    assert.deepEqual(await page.$$eval('#rt-table th[data-col]', (ths) => ths.map((t) => t.dataset.col)), DEFAULT_COLUMNS);
+    // A column the table does not have is refused by the page, at the form's foot.
+    await mark(page);
+    await page.goto(`${h.url}/#/runs?columns=id,nope`);
+    await waitFor(async () => /"nope" is not a column of the table/.test(await page.locator('#rt-error').innerText()), { what: 'the columns check' });
 
     // Cursor pages: every run of a sort with ties (-label: nulls last, ties by id) 25 a page,
     // forward to the end and back to the start; no duplicate, no gap, the server's order.

@@ -23,15 +23,38 @@ export function rangeNames(limits) {
   return limits.jobs.parameters.filter((p) => p.endsWith('_min')).map((p) => p.slice(0, -4));
 }
 
-// {filters: {name: text}, sort, limit, cursor, unknown: [names]} from the hash's parameters.
+// The columns the table shows unless its query names others (columns=): the run, its
+// parameters and numerics, and the classifier's verdict. The classifier's other features and
+// the run's measures, the rest of GET /limits' jobs.columns, are a choice away.
+export const DEFAULT_COLUMNS = [
+  'id', 'sweep', 'state', 'S', 'R', 'phi', 'preset', 'cells_per_unit', 'cells_per_strut', 'seed', 'point_id',
+  'status', 'class', 'confidence', 'runner_up', 'n_reflections', 'band_speed_ratio', 'human_label', 'label',
+  'source_database', 'source_job', 'geometry',
+];
+
+// The columns of the query's table and CSV, in its order: its own, else the default ones the
+// server has.
+export function shownColumns(q, limits) {
+  return q.columns ? q.columns.split(',') : DEFAULT_COLUMNS.filter((c) => limits.jobs.columns.includes(c));
+}
+
+// A choice of columns as the query holds it: in the server's order, '' for the default set.
+export function columnsParam(chosen, limits) {
+  const list = limits.jobs.columns.filter((c) => chosen.includes(c));
+  const dflt = DEFAULT_COLUMNS.filter((c) => limits.jobs.columns.includes(c));
+  return list.join(',') === dflt.join(',') ? '' : list.join(',');
+}
+
+// {filters: {name: text}, sort, limit, cursor, columns, unknown: [names]} from the hash's
+// parameters.
 export function readQuery(params, limits) {
   const names = filterNames(limits);
-  const q = { filters: {}, sort: '', limit: '', cursor: '', unknown: [] };
+  const q = { filters: {}, sort: '', limit: '', cursor: '', columns: '', unknown: [] };
   for (const [k0, v] of Object.entries(params)) {
     const k = ALIASES[k0] || k0;
     if (v === '') continue;
     if (names.includes(k)) q.filters[k] = v;
-    else if (k === 'sort' || k === 'limit' || k === 'cursor') q[k] = v;
+    else if (k === 'sort' || k === 'limit' || k === 'cursor' || k === 'columns') q[k] = v;
     else q.unknown.push(k0);
   }
   return q;
@@ -49,6 +72,7 @@ export function tableQuery(q, limits) {
   if (q.sort) s.set('sort', q.sort);
   if (q.limit) s.set('limit', q.limit); // else the server's default_limit
   if (q.cursor) s.set('cursor', q.cursor);
+  s.set('columns', shownColumns(q, limits).join(','));
   s.set('format', 'table');
   return text(s);
 }
@@ -59,6 +83,7 @@ export function tableQuery(q, limits) {
 export function earlyTableQuery(params) {
   const s = new URLSearchParams();
   for (const [k, v] of Object.entries(params)) if (v !== '' && k !== 'format' && k !== 'offset') s.set(ALIASES[k] || k, v);
+  if (!s.has('columns')) s.set('columns', DEFAULT_COLUMNS.join(','));
   s.set('format', 'table');
   return text(s);
 }
@@ -67,9 +92,11 @@ export function sameQuery(a, b) {
   return norm(a) === norm(b);
 }
 
+// The CSV holds the columns the table shows.
 export function csvQuery(q, limits) {
   const s = new URLSearchParams(filterPairs(q, limits));
   if (q.sort) s.set('sort', q.sort);
+  s.set('columns', shownColumns(q, limits).join(','));
   s.set('format', 'csv');
   return text(s);
 }
@@ -81,10 +108,12 @@ export function sharedQuery(q, limits) {
   return text(s);
 }
 
-// The page's own hash: filters, sort, a page size other than the default, the cursor.
+// The page's own hash: filters, sort, columns other than the default, a page size other than
+// the default, the cursor.
 export function pageHash(q, limits) {
   const s = new URLSearchParams(filterPairs(q, limits));
   if (q.sort) s.set('sort', q.sort);
+  if (q.columns) s.set('columns', q.columns);
   if (q.limit && Number(q.limit) !== limits.lists.default_limit) s.set('limit', q.limit);
   if (q.cursor) s.set('cursor', q.cursor);
   const t = text(s);
@@ -136,6 +165,12 @@ export function checkQuery(q, limits, presetNames) {
     if (lo !== undefined && hi !== undefined && isNumber(lo) && isNumber(hi) && Number(lo) > Number(hi)) add(`${r}_max`, `must be at least ${r}_min (${lo})`);
   }
   if (q.limit && !(isId(q.limit) && Number(q.limit) <= limits.lists.max_limit)) add('limit', `must be a whole number from 1 to ${limits.lists.max_limit}`);
+  if (q.columns) {
+    const m = checkList(q.columns, limits.jobs.columns, 'a column of the table');
+    const items = q.columns.split(',');
+    if (m) add('columns', m);
+    else if (new Set(items).size !== items.length) add('columns', 'names a column twice');
+  }
   if (q.sort) {
     const key = q.sort.replace(/^-/, '');
     if (!limits.jobs.sort.includes(key)) add('sort', `must be one of ${limits.jobs.sort.join(', ')}, with - before it for descending`);

@@ -91,7 +91,7 @@ const filterParams = (params) => Object.fromEntries(Object.entries(params).filte
 
 // The rows' request: the table's CSV of the filters (id order; up to the server's row limit),
 // the columns the spec reads.
-const rowsQuery = (q, limits, spec) => `${csvQuery({ ...q, sort: '' }, limits)}&columns=${columnsFor(spec).join(',')}`;
+const rowsQuery = (q, limits, spec) => csvQuery({ ...q, sort: '', columns: columnsFor(spec).join(',') }, limits);
 // ... read straight from the hash, before GET /limits has come.
 function earlyRowsQuery(params) {
   const s = new URLSearchParams(filterParams(params));

@@ -12,11 +12,15 @@ import { escapeHtml, fixed, sci } from '../format.js';
 import { geometryName } from '../geometries.js';
 import { parseHash } from '../router.js';
 import { fillFilterForm, fillSweepSelect, filterFormHtml, readFilterForm, showFilterErrors } from '../runfilters.js';
+import { varText } from '../featureplot.js';
+import { loadGlossary } from '../glossary.js';
 import {
-  checkQuery, csvQuery, earlyTableQuery, mapHashOfQuery, pageHash, plotsHashOfQuery, readQuery, sameQuery, tableQuery,
+  DEFAULT_COLUMNS, checkQuery, columnsParam, csvQuery, earlyTableQuery, mapHashOfQuery, pageHash, plotsHashOfQuery, readQuery,
+  sameQuery, shownColumns, tableQuery,
 } from '../runquery.js';
 
-// How each column is headed (HTML) and titled; a column not listed is headed by its name.
+// How each column is headed (HTML) and titled; a column not listed is headed as the Plots page
+// names it (js/featureplot.js), else by its name, and titled by the feature glossary.
 const HEADS = {
   id: ['run', 'job id: opens the run'], sweep: ['sweep', 'the first sweep that holds the run'], state: ['state'],
   S: ['<i>S</i>', 'Mach number V/√(E/ρ)'], R: ['<i>R</i>', 'relative strength q_y/E'], phi: ['φ', 'solid fraction'],
@@ -28,7 +32,17 @@ const HEADS = {
   human_label: ['human', "a person's label"], label: ['label', 'the label that counts: a person\'s, else the classifier\'s'],
   source_database: ['source', 'the database that computed the result (imported runs)'], source_job: ['source job'],
   geometry: ['column', "the scene's geometry: the 2D pseudo-1D column, full 2D or the 3D pseudo-1D column"],
+  band_speed_error: ['<i>c</i><sub>b</sub>/<i>V</i> error', "the standard error of the band speed's fit"],
 };
+
+// A column's head and title: [html, title or undefined]; glossary: the feature glossary's
+// entries by key, once loaded.
+function headOf(c, glossary) {
+  if (HEADS[c]) return HEADS[c];
+  const text = varText(c);
+  const name = text !== c ? text : glossary?.[c]?.name ?? c.replace(/_/g, ' ');
+  return [escapeHtml(name), glossary?.[c]?.text];
+}
 
 const PAGE_SIZES = [25, 50, 100, 200, 500, 1000];
 const TYPE_DELAY_MS = 350; // a typed filter applies this long after the last key
@@ -76,6 +90,10 @@ function pageHtml() {
           <button type="button" class="small" id="rt-next">next ›</button>
           <select id="rt-limit" aria-label="rows a page" class="rt-limit"></select>
         </span>
+        <details class="rt-cols" id="rt-cols"><summary>Columns <span id="rt-cols-count" class="muted"></span></summary>
+          <div class="rt-cols-pop"><div id="rt-cols-list" class="rt-cols-list"></div>
+            <div class="rt-cols-foot"><button type="button" class="small" id="rt-cols-default">default</button> <button type="button" class="small" id="rt-cols-all">all</button></div></div>
+        </details>
         <span class="rt-compare" id="rt-compare"></span>
         <span class="rt-links"><a id="rt-csv" download href="#">CSV</a> · <a id="rt-map" href="#/map">on the map</a> · <a id="rt-plot" href="#/plots">plot these runs</a></span>
       </div>
@@ -101,14 +119,40 @@ function createPage(root, params) {
       form: $('rt-form'), clear: $('rt-clear'), error: $('rt-error'), active: $('rt-active'),
       count: $('rt-count'), first: $('rt-first'), prev: $('rt-prev'), next: $('rt-next'), limit: $('rt-limit'),
       csv: $('rt-csv'), map: $('rt-map'), plot: $('rt-plot'), table: $('rt-table'), foot: $('rt-foot'), compare: $('rt-compare'),
+      cols: $('rt-cols-list'), colsCount: $('rt-cols-count'), colsDefault: $('rt-cols-default'), colsAll: $('rt-cols-all'),
     },
+    glossary: null, // the feature glossary's entries by key, for the heads' titles
   };
 }
 
-// The form's controls set from the query's filters, and its summary's count.
+// The form's controls set from the query's filters, and its summary's count; the column
+// choice's boxes from the query's columns.
 function fillForm(page) {
   const n = fillFilterForm(page.el.form, page.query.filters);
   page.el.active.textContent = n ? `(${n} set)` : '';
+  const shown = shownColumns(page.query, page.limits);
+  for (const box of page.el.cols.querySelectorAll('input[data-col]')) box.checked = shown.includes(box.dataset.col);
+  page.el.colsCount.textContent = `(${shown.length} of ${page.limits.jobs.columns.length})`;
+}
+
+// The column choice: a box for every column of the table, the default ones first. The run's id
+// is always shown (its link and its box for comparing).
+function columnsHtml(page) {
+  const all = page.limits.jobs.columns;
+  const box = (c) => {
+    const [head, title] = headOf(c, page.glossary);
+    const fixed = c === 'id' ? ' disabled' : '';
+    return `<label${title ? ` title="${escapeHtml(title)}"` : ''}><input type="checkbox" data-col="${c}"${fixed}> ${head}</label>`;
+  };
+  const dflt = all.filter((c) => DEFAULT_COLUMNS.includes(c)), more = all.filter((c) => !DEFAULT_COLUMNS.includes(c));
+  return `<fieldset><legend>run, parameters, verdict</legend>${dflt.map(box).join('')}</fieldset>`
+    + (more.length ? `<fieldset><legend>the classifier's features, the run's measures</legend>${more.map(box).join('')}</fieldset>` : '');
+}
+
+// A new choice of columns: the same rows (the cursor and its stack stay), other cells.
+function onColumns(page, chosen) {
+  page.query = { ...page.query, columns: columnsParam(['id', ...chosen], page.limits) };
+  apply(page);
 }
 
 const readForm = (page) => readFilterForm(page.el.form);
@@ -188,7 +232,7 @@ function render(page) {
   const sortKey = query.sort.replace(/^-/, '') || 'id';
   const desc = query.sort.startsWith('-');
   const head = cols.map((c) => {
-    const [text, title] = HEADS[c] || [escapeHtml(c)];
+    const [text, title] = headOf(c, page.glossary);
     const sortable = limits.jobs.sort.includes(c);
     const aria = c === sortKey ? ` aria-sort="${desc ? 'descending' : 'ascending'}"` : '';
     const arrow = c === sortKey ? `<span class="rt-arrow">${desc ? '▼' : '▲'}</span>` : '';
@@ -311,6 +355,11 @@ function wire(page) {
     page.query = { ...page.query, cursor: '' };
     apply(page);
   });
+  el.cols.addEventListener('change', () => {
+    onColumns(page, [...el.cols.querySelectorAll('input[data-col]:checked')].map((b) => b.dataset.col));
+  });
+  el.colsDefault.addEventListener('click', () => onColumns(page, DEFAULT_COLUMNS));
+  el.colsAll.addEventListener('click', () => onColumns(page, page.limits.jobs.columns));
   el.limit.addEventListener('change', () => {
     page.query = { ...page.query, limit: el.limit.value, cursor: '' };
     page.stack = [];
@@ -340,6 +389,7 @@ async function start(page) {
   page.limits = limits;
   page.presets = presets.presets.map((p) => p.name);
   page.el.form.innerHTML = filterFormHtml(limits, page.presets);
+  page.el.cols.innerHTML = columnsHtml(page);
   page.query = readQuery(page.params, limits);
   // The stack of a reload (history.state), if it belongs to this cursor.
   const kept = history.state?.runsStack;
@@ -350,6 +400,14 @@ async function start(page) {
   wire(page);
   apply(page, false);
   sweeps.then((s) => { if (page.alive) fillSweepSelect(page.el.form, s.sweeps || []); });
+  // The heads' and boxes' titles, when the glossary comes (the table is drawn without them first).
+  loadGlossary().then((g) => {
+    if (!page.alive) return;
+    page.glossary = g.features || {};
+    page.el.cols.innerHTML = columnsHtml(page);
+    fillForm(page);
+    if (page.answer) render(page);
+  });
   if (page.query.unknown.length) page.el.error.textContent = `ignored: ${page.query.unknown.join(', ')} (not a parameter of the table)`;
 }
 
