@@ -17,13 +17,14 @@
 //   (log b = 2 atanh Z) and the correction exp((s - 1) dev(e)) by their matrix power series
 //   (sym3_series.hpp), b - I formed from G = Fe - I as G + G^T + G G^T so that a strain of 1e-6
 //   keeps its digits. It holds for the small elastic strains of these solids (|Z| < 1/4,
-//   Hencky strains up to about 0.25) and per-step plastic cuts below 2^-5, and reports whether it did.
+//   Hencky strains up to about 0.25) and per-step plastic cuts below 2^-5, and reports whether
+//   it did.
 // - return_map_3d_principal, in principal space: b = Q diag(l_i) Q^T by cyclic Jacobi rotations
 //   (sym_eigen_3d.hpp), e_i = 1/2 log l_i; eigenvalues to a few ulp of |b| ~ 1, so strains to
 //   ~1e-16, also where two eigenvalues coincide, as in every state of a column compressed along
 //   y with x and z alike (the closed form by the characteristic cubic, Eigen's computeDirect,
 //   loses half its digits there: the uniaxial stress path of plasticity_3d_gtest came out 2e-9
-//   off with it). It takes any state; it costs about ten times the series
+//   off with it). It takes any state; it costs about four times the series per call
 //   (bench/results/return_map_bench.md).
 // return_map_3d runs the series and hands the state to the principal update where the series
 // do not hold; the two agree to round-off (plasticity_3d_gtest).
@@ -33,7 +34,6 @@
 #include <cmath>
 
 #include "plasticity.hpp"  // log_near_one
-
 #include "sym3_series.hpp"
 #include "sym_eigen_3d.hpp"
 
@@ -78,7 +78,8 @@ inline double return_map_3d_principal(Mat3& fe, const Material3D& m, Mat3& tau) 
 // The same update by the power series: returns false, with fe and tau untouched, where they do
 // not hold (|Z|_F >= 1/4, a plastic cut of 2^-5 or more, J <= 0 or a state that is not finite);
 // else writes fe, tau and the plastic increment and returns true.
-[[gnu::always_inline]] inline bool return_map_3d_series(Mat3& fe, const Material3D& m, Mat3& tau, double& plastic) {
+[[gnu::always_inline]] inline bool return_map_3d_series(Mat3& fe, const Material3D& m, Mat3& tau,
+                                                       double& plastic) {
   const double J = fe.determinant();
   if (!(J > 0.0) || !fe.allFinite()) return false;
   // b - I = G + G^T + G G^T with G = Fe - I (the diagonal's subtraction is exact near 1)

@@ -53,9 +53,12 @@ inline Sym3 commuting_solve(const Sym3& a, const Sym3& m) {
   const double inv_det = 1.0 / (m.xx * cxx + m.xy * cxy + m.xz * cxz);
   const Sym3 c{cxx, cyy, czz, cxy, cxz, cyz};
   // (a c)_ij and (a c)_ji differ by round-off only: their mean keeps the result symmetric.
-  const double xy = a.xx * c.xy + a.xy * c.yy + a.xz * c.yz, yx = a.xy * c.xx + a.yy * c.xy + a.yz * c.xz;
-  const double xz = a.xx * c.xz + a.xy * c.yz + a.xz * c.zz, zx = a.xz * c.xx + a.yz * c.xy + a.zz * c.xz;
-  const double yz = a.xy * c.xz + a.yy * c.yz + a.yz * c.zz, zy = a.xz * c.xy + a.yz * c.yy + a.zz * c.yz;
+  const double xy = a.xx * c.xy + a.xy * c.yy + a.xz * c.yz;
+  const double yx = a.xy * c.xx + a.yy * c.xy + a.yz * c.xz;
+  const double xz = a.xx * c.xz + a.xy * c.yz + a.xz * c.zz;
+  const double zx = a.xz * c.xx + a.yz * c.xy + a.zz * c.xz;
+  const double yz = a.xy * c.xz + a.yy * c.yz + a.yz * c.zz;
+  const double zy = a.xz * c.xy + a.yz * c.yy + a.zz * c.yz;
   return inv_det * Sym3{a.xx * c.xx + a.xy * c.xy + a.xz * c.xz,
                         a.xy * c.xy + a.yy * c.yy + a.yz * c.yz,
                         a.xz * c.xz + a.yz * c.yz + a.zz * c.zz,
@@ -72,15 +75,17 @@ inline constexpr double kSym3TinySeries = 0x1p-10, kSym3ShortSeries = 0x1p-5,
 // of the result).
 inline Sym3 atanh_sym3_tiny(const Sym3& z) {
   const Sym3 z2 = commuting_product(z, z);
-  return commuting_product(z, plus_identity(commuting_product(z2, plus_identity((1.0 / 5) * z2, 1.0 / 3)), 1.0));
+  const Sym3 p = plus_identity((1.0 / 5) * z2, 1.0 / 3);
+  return commuting_product(z, plus_identity(commuting_product(z2, p), 1.0));
 }
 
 // atanh(Z) = Z + Z^3/3 + ... + Z^11/11 for |Z|_F < 2^-5 (the first omitted term is below 1e-19
 // of the result), in Estrin's scheme as atanh_series_short.
 inline Sym3 atanh_sym3_short(const Sym3& z) {
   const Sym3 z2 = commuting_product(z, z), z4 = commuting_product(z2, z2);
-  const Sym3 p01 = plus_identity((1.0 / 3) * z2, 1.0), p23 = plus_identity((1.0 / 7) * z2, 1.0 / 5),
-             p45 = plus_identity((1.0 / 11) * z2, 1.0 / 9);
+  const Sym3 p01 = plus_identity((1.0 / 3) * z2, 1.0);
+  const Sym3 p23 = plus_identity((1.0 / 7) * z2, 1.0 / 5);
+  const Sym3 p45 = plus_identity((1.0 / 11) * z2, 1.0 / 9);
   return commuting_product(z, p01 + commuting_product(z4, p23 + commuting_product(z4, p45)));
 }
 
