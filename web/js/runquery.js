@@ -32,10 +32,12 @@ export const DEFAULT_COLUMNS = [
   'source_database', 'source_job', 'geometry',
 ];
 
-// The columns of the query's table and CSV, in its order: its own, else the default ones the
-// server has.
+// The columns of the query's table and CSV, in its order: its own (the run's id first where a
+// link left it out: its cell opens the run), else the default ones the server has.
 export function shownColumns(q, limits) {
-  return q.columns ? q.columns.split(',') : DEFAULT_COLUMNS.filter((c) => limits.jobs.columns.includes(c));
+  if (!q.columns) return DEFAULT_COLUMNS.filter((c) => limits.jobs.columns.includes(c));
+  const own = q.columns.split(',');
+  return own.includes('id') ? own : ['id', ...own];
 }
 
 // A choice of columns as the query holds it: in the server's order, '' for the default set.
