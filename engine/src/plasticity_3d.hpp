@@ -75,6 +75,13 @@ inline double return_map_3d_principal(Mat3& fe, const Material3D& m, Mat3& tau) 
   return plastic;
 }
 
+// A symmetric matrix of the series as the particles' Mat3.
+inline Mat3 as_matrix(const Sym3& a) {
+  Mat3 m;
+  m << a.xx, a.xy, a.xz, a.xy, a.yy, a.yz, a.xz, a.yz, a.zz;
+  return m;
+}
+
 // The same update by the power series: returns false, with fe and tau untouched, where they do
 // not hold (|Z|_F >= 1/4, a plastic cut of 2^-5 or more, J <= 0 or a state that is not finite);
 // else writes fe, tau and the plastic increment and returns true.
@@ -104,13 +111,11 @@ inline double return_map_3d_principal(Mat3& fe, const Material3D& m, Mat3& tau) 
     scale = m.dev_yield / norm;
     const Sym3 k = (scale - 1.0) * dev;  // dev_new - dev, of norm `cut`
     const Sym3 x = cut < kSym3TinyExp ? exp_sym3_tiny(k) : exp_sym3_short(k);
-    Mat3 xm;
-    xm << x.xx, x.xy, x.xz, x.xy, x.yy, x.yz, x.xz, x.yz, x.zz;
-    fe = (xm * fe).eval();
+    fe = (as_matrix(x) * fe).eval();
   }
   // lambda tr(e) + 2 mu e with e = tr(e) / 3 I + dev_new
   const Sym3 t = plus_identity((2.0 * m.mu * scale) * dev, (m.lambda + 2.0 * m.mu / 3.0) * log_j);
-  tau << t.xx, t.xy, t.xz, t.xy, t.yy, t.yz, t.xz, t.yz, t.zz;
+  tau = as_matrix(t);
   plastic = cut;
   return true;
 }
