@@ -118,7 +118,7 @@ void stream_csv(App& app, const RunQuery& q, std::vector<std::size_t> columns,
           RunRow row;
           int n = 0;
           while (n < kCsvChunkRows && rows->next(row)) {
-            chunk += views::run_csv_line(row, columns);
+            views::append_run_csv_line(chunk, row, columns);
             ++n;
           }
           if (!chunk.empty() && !sink.write(chunk.data(), chunk.size())) return false;

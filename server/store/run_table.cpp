@@ -229,37 +229,51 @@ std::string select_sql(const std::vector<bool>& read) {
 // Reads rows of select_sql(read), deriving the cells across a strut when it is read.
 class RowReader {
  public:
-  explicit RowReader(std::vector<bool> read) : read_(std::move(read)) {}
-
-  RunRow read(sqlite::Statement& s) {
-    RunRow row;
-    row.values.resize(sources().size());
-    int k = 0;
+  explicit RowReader(const std::vector<bool>& read) : derive_strut_(read[cells_per_strut_]) {
     for (std::size_t i = 0; i < sources().size(); ++i) {
-      const ColumnSource& c = sources()[i];
-      if (!c.sql || !read_[i]) continue;
-      if (!s.is_null(k)) {
-        switch (c.column.type) {
-          case RunType::integer: row.values[i] = s.int64(k); break;
-          case RunType::number: row.values[i] = s.real(k); break;
-          case RunType::text: row.values[i] = s.text(k); break;
-        }
-      }
-      ++k;
+      if (sources()[i].sql && read[i]) read_.push_back({i, sources()[i].column.type});
     }
-    if (read_[cells_per_strut_]) {
+  }
+
+  RunRow read(sqlite::Statement& s) const {
+    RunRow row;
+    read(s, row);
+    return row;
+  }
+  // Into `row`, whose cells of the columns not read stay as they are (a row read before by
+  // this reader: empty).
+  void read(sqlite::Statement& s, RunRow& row) const {
+    row.values.resize(sources().size());
+    for (std::size_t k = 0; k < read_.size(); ++k) {
+      RunValue& v = row.values[read_[k].index];
+      const int c = static_cast<int>(k);
+      if (s.is_null(c)) {
+        v = std::monostate{};
+        continue;
+      }
+      switch (read_[k].type) {
+        case RunType::integer: v = s.int64(c); break;
+        case RunType::number: v = s.real(c); break;
+        case RunType::text: v = s.text(c); break;
+      }
+    }
+    if (derive_strut_) {
       const auto* geometry = std::get_if<std::string>(&row.values[geometry_]);
       row.values[cells_per_strut_] =
           cells_per_strut(std::get<std::int64_t>(row.values[cells_per_unit_]),
                           std::get<double>(row.values[phi_]), geometry ? *geometry : "pseudo1d");
     }
-    return row;
   }
 
  private:
-  std::vector<bool> read_;
+  struct Column {
+    std::size_t index;  // in sources()
+    RunType type;
+  };
   const std::size_t phi_ = index_of("phi"), cells_per_unit_ = index_of("cells_per_unit"),
                     cells_per_strut_ = index_of("cells_per_strut"), geometry_ = index_of("geometry");
+  std::vector<Column> read_;  // the columns of the statement, in its order
+  bool derive_strut_;
 };
 
 std::int64_t count_rows(sqlite::Database& db, const Sql& filter) {
@@ -297,7 +311,7 @@ class StatementStream : public RunTable::Stream {
   std::int64_t total() const override { return total_; }
   bool next(RunRow& row) override {
     if (!rows_.step()) return false;
-    row = reader_.read(rows_);
+    reader_.read(rows_, row);
     return true;
   }
 

@@ -62,20 +62,19 @@ std::string run_csv_header(const std::vector<std::size_t>& columns) {
   return line + "\n";
 }
 
-std::string run_csv_line(const RunRow& row, const std::vector<std::size_t>& columns) {
-  std::string line;
+void append_run_csv_line(std::string& out, const RunRow& row, const std::vector<std::size_t>& columns) {
   for (std::size_t k = 0; k < columns.size(); ++k) {
-    if (k) line += ',';
+    if (k) out += ',';
     const RunValue& v = row.values.at(columns[k]);
     if (const auto* n = std::get_if<std::int64_t>(&v)) {
-      line += std::to_string(*n);
+      append_csv_integer(out, *n);
     } else if (const auto* x = std::get_if<double>(&v)) {
-      line += json(*x).dump();  // as the JSON answers write it
+      append_csv_number(out, *x);  // as the JSON answers write it
     } else if (const auto* t = std::get_if<std::string>(&v)) {
-      line += csv_text(*t);
+      append_csv_text(out, *t);
     }
   }
-  return line + "\n";
+  out += '\n';
 }
 
 }  // namespace compaction::server::views

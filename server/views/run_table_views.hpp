@@ -35,8 +35,9 @@ std::vector<std::size_t> answer_columns(const std::vector<std::size_t>& asked);
 //  "sort", "next"}, with these columns (answer_columns).
 nlohmann::json run_table(const std::vector<RunRow>& rows, const PageInfo& page,
                          const std::vector<std::size_t>& columns);
-// The CSV's first line (the column names) and one line per row, each ending in "\n".
+// The CSV's first line (the column names), and one line per row appended to `out`, each
+// ending in "\n".
 std::string run_csv_header(const std::vector<std::size_t>& columns);
-std::string run_csv_line(const RunRow& row, const std::vector<std::size_t>& columns);
+void append_run_csv_line(std::string& out, const RunRow& row, const std::vector<std::size_t>& columns);
 
 }  // namespace compaction::server::views
