@@ -100,9 +100,9 @@ export function logExtent(values, fallback, minDecades = 1) {
 }
 
 export function linearExtent(values, fallback, pad = 0.05) {
-  const v = values.filter(Number.isFinite);
-  if (!v.length) return fallback;
-  let lo = Math.min(...v), hi = Math.max(...v);
+  let lo = Infinity, hi = -Infinity; // a loop: spreading 100 000 values overflows the stack
+  for (const x of values) if (Number.isFinite(x)) { if (x < lo) lo = x; if (x > hi) hi = x; }
+  if (!(lo <= hi)) return fallback;
   if (hi === lo) { hi += Math.abs(hi) * 0.1 || 1; lo -= Math.abs(lo) * 0.1 || 1; }
   const p = (hi - lo) * pad;
   return [lo - p, hi + p];

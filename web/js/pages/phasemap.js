@@ -145,9 +145,10 @@ function markerRadius(n) {
 // rings) at the extreme values stay inside the px-long plot area instead of being cut at its
 // frame.
 function fitMarkers(dom, values, px, r) {
-  const v = values.filter((x) => x > 0 && Number.isFinite(x));
-  if (!v.length) return dom;
-  const lo = Math.log10(Math.min(...v)), hi = Math.log10(Math.max(...v));
+  let min = Infinity, max = -Infinity; // a loop: spreading 100 000 values overflows the stack
+  for (const x of values) if (x > 0 && Number.isFinite(x)) { if (x < min) min = x; if (x > max) max = x; }
+  if (!(min <= max)) return dom;
+  const lo = Math.log10(min), hi = Math.log10(max);
   let a = Math.log10(dom[0]), b = Math.log10(dom[1]);
   const need = (r * (SPREAD + 1.3) + 4) / px; // as a share of the axis
   for (let k = 0; k < 3; k++) { // the share grows with the span: settle in a few rounds
