@@ -1,10 +1,10 @@
 // Every page of the dashboard on a phone (issue 49, item 6): at 390 x 844 each route of
 // web/js/main.js (#/map, #/run/ID of a local run with results and of an imported run, #/runs,
-// #/bands, #/sweeps with the form's advanced parts open, #/labels, #/plan of an adaptive sweep
-// left queued) renders with the document no
-// wider than the window, no element's right edge past the window except inside a box that scrolls
-// sideways itself (overflow-x auto or scroll; the offender is named), and every nav link visible
-// inside the window and clickable. Data: the committed studies/phase_map/results/sweep-2.export.json
+// alone and with its Columns fold open, #/compare, #/plots, #/bands, #/sweeps with the form's
+// advanced parts open, #/labels, #/plan of an adaptive sweep left queued) renders with the
+// document no wider than the window, no element's right edge past the window except inside a
+// box that scrolls sideways itself (overflow-x auto or scroll; the offender is named), and every
+// nav link visible inside the window and clickable. Data: the committed studies/phase_map/results/sweep-2.export.json
 // through POST /imports (as scripts/main.sh does), a local sweep completed through the worker API
 // (lib/labelled.mjs) and a second one queued (progress in the sweeps list). Screenshots of every
 // page at 390 x 844 and of the sweeps page at 1440 x 900 go to $BROWSER_ARTIFACTS_DIR.
@@ -99,6 +99,11 @@ test('every page at 390 x 844: no sideways scroll, nothing past the edge, the na
       ['run-local', `#/run/${localRun}`, () => page.waitForSelector('#class-box .class-main, #class-box .features-box')],
       ['run-imported', `#/run/${importedRun}`, () => page.waitForSelector('#run-import:not([hidden])')],
       ['runs', '#/runs', () => page.waitForSelector('table.rt tbody tr')],
+      ['runs-columns', '#/runs', async () => { // the choice of columns open
+        await page.waitForSelector('table.rt tbody tr');
+        await page.locator('#rt-cols > summary').click();
+        await page.locator('#rt-cols-list input[data-col="coherence"]').waitFor();
+      }],
       ['compare', `#/compare?ids=${localRun},${importedRun}`, () => page.locator('#cmp-table').waitFor()],
       ['plots', '#/plots', () => page.waitForSelector('#pl-plot canvas')],
       ['bands', '#/bands', () => page.waitForTimeout(300)],

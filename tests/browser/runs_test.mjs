@@ -181,6 +181,16 @@ test('the Runs page: filters, sort, cursor pages, count, CSV, URL state, map lin
     assert.equal(await page.locator('#rt-cols-list input[data-col="id"]').isDisabled(), true, 'the run id is always shown');
     await page.locator('#rt-cols > summary').click();
     await shot(page, '64-runs-columns');
+    // A click outside the open choice closes it, and so does Escape.
+    await page.locator('h1').click();
+    assert.equal(await page.locator('#rt-cols').evaluate((d) => d.open), false, 'a click outside closes the columns');
+    await page.locator('#rt-cols > summary').click();
+    await page.locator('#rt-cols-list input[data-col="coherence"]').click();
+    await page.locator('#rt-cols-list input[data-col="coherence"]').click();
+    assert.equal(await page.locator('#rt-cols').evaluate((d) => d.open), true, 'a click inside keeps them open');
+    await page.keyboard.press('Escape');
+    assert.equal(await page.locator('#rt-cols').evaluate((d) => d.open), false, 'Escape closes the columns');
+    await page.locator('#rt-cols > summary').click();
     await mark(page);
     await page.locator('#rt-cols-default').click();
     await answered(page, 'the default columns');
@@ -190,6 +200,15 @@ test('the Runs page: filters, sort, cursor pages, count, CSV, URL state, map lin
     await mark(page);
     await page.goto(`${h.url}/#/runs?columns=id,nope`);
     await waitFor(async () => /"nope" is not a column of the table/.test(await page.locator('#rt-error').innerText()), { what: 'the columns check' });
+    // A link whose columns leave out the run id shows it first, from the one request the page
+    // makes beside the limits.
+    await page.goto('about:blank');
+    const askedBefore = asked.length;
+    await mark(page);
+    await page.goto(`${h.url}/#/runs?columns=class,S`);
+    await answered(page, 'a link\'s columns without the id');
+    assert.deepEqual(await page.$$eval('#rt-table th[data-col]', (ths) => ths.map((t) => t.dataset.col)), ['id', 'class', 'S']);
+    assert.equal(asked.length - askedBefore, 1, `one request: ${asked.slice(askedBefore)}`);
 
     // Cursor pages: every run of a sort with ties (-label: nulls last, ties by id) 25 a page,
     // forward to the end and back to the start; no duplicate, no gap, the server's order.

@@ -32,12 +32,14 @@ export const DEFAULT_COLUMNS = [
   'source_database', 'source_job', 'geometry',
 ];
 
-// The columns of the query's table and CSV, in its order: its own (the run's id first where a
-// link left it out: its cell opens the run), else the default ones the server has.
+// A link's own columns, the run's id first where it left it out (its cell opens the run).
+const withId = (own) => (own.includes('id') ? own : ['id', ...own]);
+
+// The columns of the query's table and CSV, in its order: its own (withId), else the default
+// ones the server has.
 export function shownColumns(q, limits) {
   if (!q.columns) return DEFAULT_COLUMNS.filter((c) => limits.jobs.columns.includes(c));
-  const own = q.columns.split(',');
-  return own.includes('id') ? own : ['id', ...own];
+  return withId(q.columns.split(','));
 }
 
 // A choice of columns as the query holds it: in the server's order, '' for the default set.
@@ -85,7 +87,7 @@ export function tableQuery(q, limits) {
 export function earlyTableQuery(params) {
   const s = new URLSearchParams();
   for (const [k, v] of Object.entries(params)) if (v !== '' && k !== 'format' && k !== 'offset') s.set(ALIASES[k] || k, v);
-  if (!s.has('columns')) s.set('columns', DEFAULT_COLUMNS.join(','));
+  s.set('columns', (s.has('columns') ? withId(s.get('columns').split(',')) : DEFAULT_COLUMNS).join(','));
   s.set('format', 'table');
   return text(s);
 }

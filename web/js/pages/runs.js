@@ -114,6 +114,7 @@ function createPage(root, params) {
     answer: null,
     seq: 0, // the newest request; older answers are dropped
     timer: null,
+    closeColumns: null, // the document's listener that closes the open choice of columns
     alive: true,
     el: {
       form: $('rt-form'), clear: $('rt-clear'), error: $('rt-error'), active: $('rt-active'),
@@ -360,6 +361,14 @@ function wire(page) {
   });
   el.colsDefault.addEventListener('click', () => onColumns(page, DEFAULT_COLUMNS));
   el.colsAll.addEventListener('click', () => onColumns(page, page.limits.jobs.columns));
+  // The open choice of columns closes on a click outside it or on Escape (on a phone it covers
+  // its own summary).
+  const fold = page.root.querySelector('#rt-cols');
+  page.closeColumns = (ev) => {
+    if (fold.open && (ev.type === 'keydown' ? ev.key === 'Escape' : !fold.contains(ev.target))) fold.open = false;
+  };
+  document.addEventListener('click', page.closeColumns);
+  document.addEventListener('keydown', page.closeColumns);
   el.limit.addEventListener('change', () => {
     page.query = { ...page.query, limit: el.limit.value, cursor: '' };
     page.stack = [];
@@ -414,5 +423,12 @@ async function start(page) {
 export function mount(root, params) {
   const page = createPage(root, params || parseHash().params);
   start(page);
-  return () => { page.alive = false; clearTimeout(page.timer); };
+  return () => {
+    page.alive = false;
+    clearTimeout(page.timer);
+    if (page.closeColumns) {
+      document.removeEventListener('click', page.closeColumns);
+      document.removeEventListener('keydown', page.closeColumns);
+    }
+  };
 }
