@@ -100,7 +100,7 @@ export function logExtent(values, fallback, minDecades = 1) {
 }
 
 export function linearExtent(values, fallback, pad = 0.05) {
-  let lo = Infinity, hi = -Infinity; // a loop: spreading 100 000 values overflows the stack
+  let lo = Infinity, hi = -Infinity; // a loop: spreading over ~125 000 values overflows the stack
   for (const x of values) if (Number.isFinite(x)) { if (x < lo) lo = x; if (x > hi) hi = x; }
   if (!(lo <= hi)) return fallback;
   if (hi === lo) { hi += Math.abs(hi) * 0.1 || 1; lo -= Math.abs(lo) * 0.1 || 1; }

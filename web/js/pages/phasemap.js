@@ -145,7 +145,7 @@ function markerRadius(n) {
 // rings) at the extreme values stay inside the px-long plot area instead of being cut at its
 // frame.
 function fitMarkers(dom, values, px, r) {
-  let min = Infinity, max = -Infinity; // a loop: spreading 100 000 values overflows the stack
+  let min = Infinity, max = -Infinity; // a loop: spreading over ~125 000 values overflows the stack
   for (const x of values) if (x > 0 && Number.isFinite(x)) { if (x < min) min = x; if (x > max) max = x; }
   if (!(min <= max)) return dom;
   const lo = Math.log10(min), hi = Math.log10(max);
