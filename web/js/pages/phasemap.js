@@ -12,7 +12,6 @@ import { api } from '../api.js';
 import { CLASSES, STATES, confidenceFade, label, look, swatch } from '../classes.js';
 import { drawPointMark, drawPointMarks, majorityCount, mapPoints, notRobustWhy, probabilitiesHtml, runLinksHtml, spreadText } from '../points.js';
 import { cellAt, cellColor, drawRegions } from '../regions.js';
-import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { Plot, logExtent, svgEl, richText } from '../plot.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
 import { setParams } from '../router.js';
@@ -634,6 +633,8 @@ function exportName(state, ext) {
 async function exportFigure(page, kind) {
   const { figure } = page.shown;
   if (!figure) return;
+  // The export's code (mapexport.js, svgcanvas.js) loads on the first export, not with the page.
+  const { download, mapSvg, pngBlob, svgText } = await import('../mapexport.js');
   const svg = mapSvg(figure);
   if (kind === 'svg') download(new Blob([svgText(svg)], { type: 'image/svg+xml' }), exportName(page.state, 'svg'));
   else download(await pngBlob(svg), exportName(page.state, 'png'));

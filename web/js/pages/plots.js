@@ -14,7 +14,6 @@ import {
   placeable, readSpec, rgbOf, varHtml, varText, variablesOf, viewOf,
 } from '../featureplot.js';
 import { escapeHtml, sciText } from '../format.js';
-import { download, mapSvg, pngBlob, svgText } from '../mapexport.js';
 import { svgEl } from '../plot.js';
 import { parseHash } from '../router.js';
 import { fillFilterForm, fillSweepSelect, filterFormHtml, readFilterForm, showFilterErrors } from '../runfilters.js';
@@ -375,7 +374,11 @@ function figureOf(page) {
 
 async function exportAs(page, kind) {
   if (!page.drawn) return;
-  const svg = mapSvg(figureOf(page));
+  const figure = figureOf(page);
+  // The export's code (mapexport.js and what only it imports) loads on the first export, not
+  // with the page.
+  const { download, mapSvg, pngBlob, svgText } = await import('../mapexport.js');
+  const svg = mapSvg(figure);
   const name = `plot-${page.spec.y}-vs-${page.spec.x}.${kind}`;
   if (kind === 'svg') download(new Blob([svgText(svg)], { type: 'image/svg+xml' }), name);
   else download(await pngBlob(svg), name);
