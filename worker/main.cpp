@@ -54,6 +54,9 @@ void nap(double seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First: a SIGTERM while the worker starts (a batch system's scancel right after srun started
+  // it, while the runner says its version) stops it as any other, instead of killing it.
+  install_signal_handlers();
   int exit_code = 0;
   const auto options = parse_worker_options(argc, argv, exit_code);
   if (!options) return exit_code;
@@ -66,7 +69,6 @@ int main(int argc, char** argv) {
   }
   spdlog::set_level(spdlog::level::from_str(options->log_level));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ worker " + options->name + ": %v");
-  install_signal_handlers();
 
   std::unique_ptr<ScratchFolder> scratch;
   try {
@@ -90,6 +92,7 @@ int main(int argc, char** argv) {
   int jobs = 0;
   auto last_work = std::chrono::steady_clock::now();
   bool warned_unreachable = false;
+  bool asked = false;    // the worker asked the server at least once (not when a signal came first)
   bool reached = false;  // the server answered at least once
   while (!stop_requested) {
     if (options->max_jobs > 0 && jobs >= options->max_jobs) {
@@ -97,6 +100,7 @@ int main(int argc, char** argv) {
       break;
     }
     const Reply r = client.lease(options->name, engine.engine_version);
+    asked = true;
     if (r.outcome != Outcome::unreachable) reached = true;
     if (r.outcome == Outcome::ok) {
       warned_unreachable = false;
@@ -145,7 +149,7 @@ int main(int argc, char** argv) {
   if (stop_requested) spdlog::info("stopped by signal after {} job(s)", jobs);
   client.release_unclaimed();  // a job the last upload leased, when a signal came before it ran
   if (!options->keep_work) scratch->remove_if_empty();
-  if (!reached) {
+  if (asked && !reached) {
     spdlog::error("the server at {} never answered", options->server);
     return exit_unreachable;
   }

@@ -1,6 +1,10 @@
 """SIGTERM to a worker in the middle of a job: the run stops, the lease is released so the job
-is queued again at once (the attempt not counted), the worker exits 0, another worker finishes."""
+is queued again at once (the attempt not counted), the worker exits 0, another worker finishes.
+SIGTERM to a worker that is still starting (its runner slow to say its version, as a batch system
+may signal right after it started the worker): it exits 0 as well, asking the server nothing."""
+import os
 import signal
+import stat
 import time
 
 from e2e_lib import STOPPABLE, STOPPABLE_POINT, Env, bin_dir_from_args, check, stop
@@ -24,4 +28,17 @@ env.wait_sweep_done(sweep["id"], 120)
 job = env.get("/api/v1/jobs/%d" % job_id)
 check(job["state"] == "succeeded" and job["result"]["worker"] == "second", "the second worker finished it")
 check(stop(second) == 0, "exit 0")
+
+slow = os.path.join(env.dir, "slow_version_runner.sh")
+with open(slow, "w") as f:
+    f.write('#!/bin/sh\nif [ "${1:-}" = "--version" ]; then sleep 3; fi\nexec "%s" "$@"\n'
+            % os.path.join(env.bin, "compaction-run"))
+os.chmod(slow, os.stat(slow).st_mode | stat.S_IXUSR)
+starting = env.start_worker("starting", "--runner", slow)
+time.sleep(1)  # the worker runs, waiting for its runner's version
+check(starting.poll() is None, "the starting worker is still waiting for its runner's version")
+check(stop(starting, signal.SIGTERM, timeout=15) == 0, "a worker SIGTERMed while it starts exits 0")
+said = env.log("worker-starting")
+check("stopped by signal after 0 job(s)" in said and "never answered" not in said,
+      "it says it was stopped, not that the server never answered: %s" % said[-500:])
 print("ok (stopped in %.2f s)" % stop_seconds)
