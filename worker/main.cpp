@@ -60,15 +60,19 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   const auto options = parse_worker_options(argc, argv, exit_code);
   if (!options) return exit_code;
+  spdlog::set_level(spdlog::level::from_str(options->log_level));
+  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ worker " + options->name + ": %v");
   RunnerVersion engine;  // what the runner runs, not what this worker was built with
   try {
     engine = ask_runner_version(options->runner);
   } catch (const std::exception& e) {
+    if (stop_requested) {  // a batch system signals the runner it started for --version as well
+      spdlog::info("stopped by signal while starting ({})", e.what());
+      return exit_done;
+    }
     std::cerr << "compaction-worker: --runner: " << e.what() << "\n";
     return exit_refused;
   }
-  spdlog::set_level(spdlog::level::from_str(options->log_level));
-  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ worker " + options->name + ": %v");
 
   std::unique_ptr<ScratchFolder> scratch;
   try {

@@ -34,11 +34,25 @@ with open(slow, "w") as f:
     f.write('#!/bin/sh\nif [ "${1:-}" = "--version" ]; then sleep 3; fi\nexec "%s" "$@"\n'
             % os.path.join(env.bin, "compaction-run"))
 os.chmod(slow, os.stat(slow).st_mode | stat.S_IXUSR)
-starting = env.start_worker("starting", "--runner", slow)
-time.sleep(1)  # the worker runs, waiting for its runner's version
-check(starting.poll() is None, "the starting worker is still waiting for its runner's version")
-check(stop(starting, signal.SIGTERM, timeout=15) == 0, "a worker SIGTERMed while it starts exits 0")
-said = env.log("worker-starting")
-check("stopped by signal after 0 job(s)" in said and "never answered" not in said,
-      "it says it was stopped, not that the server never answered: %s" % said[-500:])
+
+def children(pid):
+    with open("/proc/%d/task/%d/children" % (pid, pid)) as f:
+        return [int(c) for c in f.read().split()]
+
+
+# The worker alone signalled, then (as Slurm's process tracking signals every process of a job)
+# the worker and the runner it started for --version.
+for name, tree in [("starting", False), ("starting-tree", True)]:
+    starting = env.start_worker(name, "--runner", slow)
+    time.sleep(1)  # the worker runs, waiting for its runner's version
+    check(starting.poll() is None, "the starting worker is still waiting for its runner's version")
+    runner = children(starting.pid)
+    check(len(runner) == 1, "the worker runs one child, the runner asked its version: %s" % runner)
+    starting.send_signal(signal.SIGTERM)
+    if tree:
+        os.kill(runner[0], signal.SIGTERM)
+    check(starting.wait(timeout=15) == 0, "a worker SIGTERMed while it starts exits 0 (%s)" % name)
+    said = env.log("worker-" + name)
+    check("stopped by signal" in said and "never answered" not in said and "--runner" not in said,
+          "it says it was stopped, not that the server never answered: %s" % said[-500:])
 print("ok (stopped in %.2f s)" % stop_seconds)
