@@ -1,12 +1,13 @@
 // The Plots page's reading of GET /api/v1/jobs?format=csv (web/js/featureplot.js parseRunsCsv)
 // and the axes' extents (web/js/plot.js) in plain node, no browser: cells as the server writes
 // them (numbers as JSON, text quoted when it holds a comma or a quote, a formula's text behind
-// '), missing and empty cells, a CRLF line, a column that is not numeric, R/S^2; and extents
-// over more values than a spread call can take (the server's CSV holds up to 200 000 rows).
+// '), missing and empty cells, a CRLF line, a column that is not numeric, R/S^2; and value
+// ranges and extents over more values than a spread call can take (the server's CSV holds up to
+// 200 000 rows).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { parseRunsCsv } from '../../web/js/featureplot.js';
-import { linearExtent, logExtent } from '../../web/js/plot.js';
+import { linearExtent, logExtent, valueRange } from '../../web/js/plot.js';
 import { stressRatio } from '../../web/js/physics.js';
 
 const CSV = [
@@ -56,6 +57,10 @@ test('extents over 300 000 values (more than a spread call takes)', () => {
   assert.deepEqual(linearExtent(v, [0, 1]), [1 - 999 * 0.05, 1000 + 999 * 0.05]);
   const [lo, hi] = logExtent(v, [0.1, 10]);
   assert.ok(lo < 1 && hi > 1000 && lo > 0.5 && hi < 2000, `${lo} ${hi}`);
+  assert.deepEqual(valueRange(v), [1, 1000]);
+  assert.deepEqual(valueRange([-3, 0, 2, NaN, -Infinity], true), [2, 2], 'only values > 0');
+  assert.deepEqual(valueRange([-3, 0, 2, NaN, -Infinity]), [-3, 2]);
+  assert.equal(valueRange([0, -1], true), null);
   assert.deepEqual(linearExtent([NaN, Infinity], [0, 1]), [0, 1]);
   assert.deepEqual(linearExtent([2, 2], [0, 1]), [1.8, 2.2].map((x, i) => x + (i ? 1 : -1) * 0.4 * 0.05));
 });

@@ -87,22 +87,29 @@ function setTickText(text, v, kind, step) {
   }
 }
 
+// The least and greatest finite value of `values` (only those > 0 with `positive`), or null
+// without one. A loop: spreading over ~125 000 values into Math.min overflows the stack.
+export function valueRange(values, positive = false) {
+  let lo = Infinity, hi = -Infinity;
+  for (const x of values) if (Number.isFinite(x) && (!positive || x > 0)) { if (x < lo) lo = x; if (x > hi) hi = x; }
+  return lo <= hi ? [lo, hi] : null;
+}
+
 // Data range of a log axis padded by a fraction of a decade (ticks stay on whole decades),
 // at least `minDecades` wide; `fallback` when there is no positive value.
 export function logExtent(values, fallback, minDecades = 1) {
-  let lo = Infinity, hi = -Infinity;
-  for (const x of values) if (x > 0 && Number.isFinite(x)) { if (x < lo) lo = x; if (x > hi) hi = x; }
-  if (!(lo <= hi)) return fallback;
-  let a = Math.log10(lo), b = Math.log10(hi);
+  const range = valueRange(values, true);
+  if (!range) return fallback;
+  let a = Math.log10(range[0]), b = Math.log10(range[1]);
   if (b - a < minDecades) { const c = (a + b) / 2; a = c - minDecades / 2; b = c + minDecades / 2; }
   const pad = Math.max(0.12, 0.04 * (b - a));
   return [10 ** (a - pad), 10 ** (b + pad)];
 }
 
 export function linearExtent(values, fallback, pad = 0.05) {
-  let lo = Infinity, hi = -Infinity; // a loop: spreading over ~125 000 values overflows the stack
-  for (const x of values) if (Number.isFinite(x)) { if (x < lo) lo = x; if (x > hi) hi = x; }
-  if (!(lo <= hi)) return fallback;
+  const range = valueRange(values);
+  if (!range) return fallback;
+  let [lo, hi] = range;
   if (hi === lo) { hi += Math.abs(hi) * 0.1 || 1; lo -= Math.abs(lo) * 0.1 || 1; }
   const p = (hi - lo) * pad;
   return [lo - p, hi + p];

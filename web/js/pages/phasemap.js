@@ -12,7 +12,7 @@ import { api } from '../api.js';
 import { CLASSES, STATES, confidenceFade, label, look, swatch } from '../classes.js';
 import { drawPointMark, drawPointMarks, majorityCount, mapPoints, notRobustWhy, probabilitiesHtml, runLinksHtml, spreadText } from '../points.js';
 import { cellAt, cellColor, drawRegions } from '../regions.js';
-import { Plot, logExtent, svgEl, richText } from '../plot.js';
+import { Plot, logExtent, richText, svgEl, valueRange } from '../plot.js';
 import { sci, sciText, fixed, escapeHtml } from '../format.js';
 import { setParams } from '../router.js';
 import { GEOMETRIES } from '../geometries.js';
@@ -144,10 +144,9 @@ function markerRadius(n) {
 // rings) at the extreme values stay inside the px-long plot area instead of being cut at its
 // frame.
 function fitMarkers(dom, values, px, r) {
-  let min = Infinity, max = -Infinity; // a loop: spreading over ~125 000 values overflows the stack
-  for (const x of values) if (x > 0 && Number.isFinite(x)) { if (x < min) min = x; if (x > max) max = x; }
-  if (!(min <= max)) return dom;
-  const lo = Math.log10(min), hi = Math.log10(max);
+  const range = valueRange(values, true);
+  if (!range) return dom;
+  const lo = Math.log10(range[0]), hi = Math.log10(range[1]);
   let a = Math.log10(dom[0]), b = Math.log10(dom[1]);
   const need = (r * (SPREAD + 1.3) + 4) / px; // as a share of the axis
   for (let k = 0; k < 3; k++) { // the share grows with the span: settle in a few rounds
