@@ -35,6 +35,7 @@ with open(slow, "w") as f:
             % os.path.join(env.bin, "compaction-run"))
 os.chmod(slow, os.stat(slow).st_mode | stat.S_IXUSR)
 
+
 def children(pid):
     with open("/proc/%d/task/%d/children" % (pid, pid)) as f:
         return [int(c) for c in f.read().split()]
