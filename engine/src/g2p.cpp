@@ -88,6 +88,13 @@ template <bool kSplit>
   }
 }
 
+// Whether any of n particles' field bits is set, as a loop that vectorises.
+[[gnu::always_inline]] inline bool any_bits(const std::uint16_t* __restrict bits, std::size_t n) {
+  unsigned any = 0;
+  for (std::size_t i = 0; i < n; ++i) any |= bits[i];
+  return any != 0;
+}
+
 // Grid to particle transfer for the n particles of one block, up to the trial Fe, from the
 // node velocities gather_node_pairs copied. Every array is __restrict, so that the compiler
 // vectorises it across the block: arithmetic without branches. (Without that promise the
@@ -261,8 +268,14 @@ struct Gather {
         split = {static_cast<std::ptrdiff_t>(g.field2), P.field_bits.data() + b0,
                  P.nx.data() + b0, P.ny.data() + b0};
       }
-      gather_node_pairs<kSplit>(nb, view, g.col.data(), g.arrays.nodes.data(), P.x.data() + b0,
+      // split_fields: most blocks have no pair in a second field (p2g_split_fields.cpp).
+      if (kSplit && any_bits(split.bits, nb)) {
+        gather_node_pairs<true>(nb, view, g.col.data(), g.arrays.nodes.data(), P.x.data() + b0,
                                 P.y.data() + b0, split.second, split.bits, &pairs);
+      } else {
+        gather_node_pairs<false>(nb, view, g.col.data(), g.arrays.nodes.data(), P.x.data() + b0,
+                                 P.y.data() + b0, 0, nullptr, &pairs);
+      }
       transfer_block<kApic, kExact, kSplit>(
           nb, dt, view, g.col.data(), &pairs, g.arrays.mx.data(),
           g.arrays.my.data(), P.x.data() + b0, P.y.data() + b0, P.vx.data() + b0,

@@ -46,7 +46,13 @@ void build_grid(const SceneParams& p, Grid& g) {
   if (resolved_pore_contact(p) == PoreContact::split_fields) {
     g.field2 = nodes;
     g.arrays.nodes.assign(2 * nodes, Node{0, 0, 0, 0});
-    g.arrays.normal.assign(nodes, NodeNormal{0, 0});
+    g.arrays.windows.assign(nodes, 0);
+    g.split.node.assign(nodes, 0);
+    g.split.reach.assign(nodes, 0);
+    g.split.thread_nodes.resize(p.threads);
+    for (auto& list : g.split.thread_nodes) list.reserve(nodes);
+    g.split.nodes.reserve(nodes);
+    g.split.normal.assign(nodes, NodeNormal{0, 0});
   }
   g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
   g.scatter_rows.resize(p.threads, g.ny);
@@ -188,6 +194,12 @@ State build_scene(const SceneParams& p) {
   build_grid(p, s.grid);
   s.setup = make_setup(p);
   s.particles = place_particles(p, s.grid, s.setup);
+  if (s.setup.split_fields) {
+    s.grid.split.particles.reserve(s.particles.n);
+    s.grid.split.thread_particles.resize(p.threads);
+    for (auto& list : s.grid.split.thread_particles) list.reserve(s.particles.n);
+    s.grid.split.first_node.assign(s.particles.n, 0);
+  }
   const Grid& g = s.grid;
   s.setup.scale = s.particles.vol0 * kernel::kInverseInertia * g.inv_dx * g.inv_dx;  // V0 D^-1, MLS
   s.setup.vol0 = s.particles.vol0;

@@ -54,7 +54,24 @@ struct NodeNormal {
 struct NodeArrays {
   std::vector<Node> nodes;          // nodes[j * nx + i]
   std::vector<double> mx, my;       // pic_flip only: momentum before forces (for v_old)
-  std::vector<NodeNormal> normal;   // split_fields only: the node normal, sum of w n_p
+  // split_fields only: the windows that the normals of the particles whose stencil starts at
+  // this node lie outside of, or'ed (pore_contact::outside_windows)
+  std::vector<std::uint8_t> windows;
+};
+
+// split_fields: the nodes of this step whose two fields may differ from one (not full, normals
+// that may oppose; pore_contact.hpp), and the particles that reach them (p2g_split_fields.cpp).
+// Sized once; only the nodes listed are set in `node`, hold a normal and a second field.
+struct SplitNodes {
+  std::vector<std::uint8_t> node;      // node[k]: node k is listed
+  std::vector<std::uint8_t> reach;     // reach[k]: a stencil that starts at node k holds a listed one
+  std::vector<std::uint32_t> nodes;    // the listed nodes
+  std::vector<std::uint32_t> particles;  // the particles whose stencil holds a listed node, by band
+  std::vector<std::uint32_t> band_begin;  // band c's particles from particles[band_begin[c]]
+  std::vector<std::uint32_t> band_fill;   // the counting sort's work array
+  std::vector<std::vector<std::uint32_t>> thread_nodes, thread_particles;  // each thread's
+  std::vector<std::uint32_t> first_node;  // each particle's first stencil node (p2g)
+  std::vector<NodeNormal> normal;      // the node normal, sum of w n_p, on the listed nodes
 };
 
 struct Grid {
@@ -65,6 +82,7 @@ struct Grid {
   std::vector<int> col;     // col[base + 1 + k]: node column of stencil column base + k
   NodeArrays arrays;                  // after the grid update: velocities, in place
   std::vector<NodeArrays> scratch;    // P2G targets of threads 1..T-1
+  SplitNodes split;                   // split_fields only
   ScatterRows scatter_rows;           // the rows each P2G thread writes alone (T > 1)
   int row_lo = 0, row_hi = 0;  // rows that can carry mass this step, [row_lo, row_hi)
   int cells_x = 0, cells_y = 0;  // grid cells across and along the specimen (map rows: cells_y)

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "kernel.hpp"
@@ -103,10 +104,11 @@ TEST(PoreContactGtest, TheTwoFieldsOfANodeHoldWhatOneFieldHolds) {
   EXPECT_GT(both, 0);
 }
 
-// With threads, each thread scatters its share of the normals and of the fields into its own
-// rows or its scratch (engine/src/scatter_rows.hpp): both fields and the normals are the serial
-// ones to round-off, and every particle's field bits name the field that the pair's test
-// picks, which g2p then reads without testing again.
+// With threads, each thread scatters its share of the one field into its own rows or its
+// scratch (engine/src/scatter_rows.hpp), then the listed nodes are split on one thread: both
+// fields are the serial ones to round-off, the listed nodes and their normals the same, and
+// every particle's field bits name the field that the pair's test picks on a listed node (the
+// first on any other), which g2p then reads without testing again.
 TEST(PoreContactGtest, ThreadsFillTheTwoFieldsAsOneThreadDoes) {
   State a = build_scene(porous(PoreContact::split_fields));
   State b = build_scene(porous(PoreContact::split_fields));
@@ -126,8 +128,9 @@ TEST(PoreContactGtest, ThreadsFillTheTwoFieldsAsOneThreadDoes) {
       for (int i = 0; i < 3; ++i) {
         const std::size_t node =
             static_cast<std::size_t>(ky.base + j) * g.nx + g.col[kx.base + 1 + i];
-        const bool test = pore_contact::second_field(P.nx[p], P.ny[p], g.arrays.normal[node].x,
-                                                      g.arrays.normal[node].y);
+        const NodeNormal m = g.split.normal[node];
+        const bool test = g.split.node[node] != 0 &&  // a node not listed has one field
+                          pore_contact::second_field(P.nx[p], P.ny[p], m.x, m.y);
         ASSERT_EQ(test, ((P.field_bits[p] >> (3 * j + i)) & 1u) != 0) << p;
         second += test;
       }
@@ -191,24 +194,60 @@ TEST(PoreContactGtest, TheFacesOfAnOpenGapKeepTheirOwnVelocities) {
   EXPECT_GT(shared, 0) << "the faces share nodes across a cell";
 }
 
-TEST(PoreContactGtest, AClosedGapMergesTheFieldsIntoOne) {
+// Once the gap is closed the nodes on the cut are full: they are not split (two fields would
+// merge there), so the faces move as one field moves them, though their normals oppose.
+TEST(PoreContactGtest, AClosedGapIsOneField) {
   const double u = 0.1;
   const State one = closing_gap(0.0, PoreContact::single_field, u);
   const State two = closing_gap(0.0, PoreContact::split_fields, u);
   const Grid& g = two.grid;
-  int merged = 0;
+  int on_cut = 0;
   for (int j = g.gy + 8; j < g.ny - g.gy - 8; ++j) {
     for (int i = 0; i < g.nx; ++i) {
       const std::size_t k = static_cast<std::size_t>(j) * g.nx + i;
       const Node &a = g.arrays.nodes[k], &b = g.arrays.nodes[g.field2 + k], &o = one.grid.arrays.nodes[k];
-      if (!(b.m > 0)) continue;
-      ++merged;
-      EXPECT_GE(a.m, pore_contact::kMergeCoverage * two.particles.mass * 4) << "a full node";
-      EXPECT_DOUBLE_EQ(a.vy, b.vy) << "node " << k;
+      EXPECT_EQ(b.m, 0.0) << "node " << k << ": no second field";
       EXPECT_NEAR(a.vy, o.vy, 1e-12 * u) << "node " << k << ": as one field";
+      // The nodes within a cell of the cut (closing_gap's), which both faces reach: full.
+      const double y = (j - g.gy) * g.dx, cut = 0.5 * two.setup.h0 + 0.3 * g.dx;
+      if (std::abs(y - cut) > g.dx) continue;
+      ++on_cut;
+      EXPECT_GE(a.m, two.setup.merge_mass) << "node " << k;
     }
   }
-  EXPECT_GT(merged, 0);
+  EXPECT_GT(on_cut, 0);
+}
+
+// The windows of normals (pore_contact::outside_windows): normals that may_oppose passes over
+// lie within 90 degrees of each other (and so never put a particle in a node's second field);
+// normals within 45 degrees of each other, and a pore corner's faces, are always passed over.
+// Pairs of directions every 2.5 degrees, on the windows' ends and off them.
+TEST(PoreContactGtest, WindowsPassOverNormalsWithin90Degrees) {
+  using pore_contact::may_oppose, pore_contact::outside_windows;
+  auto out = [](double degrees) {
+    const double r = degrees * std::acos(-1.0) / 180.0;
+    return static_cast<unsigned>(outside_windows(std::cos(r), std::sin(r)));
+  };
+  EXPECT_EQ(outside_windows(0.0, 0.0), 0);  // no pores: inside every window
+  for (double d = 0.0; d < 360.0; d += 2.5) {
+    for (double e = 0.0; e <= 180.0; e += 2.5) {
+      const bool may = may_oppose(out(d) | out(d + e));
+      if (e <= 45.0) {
+        EXPECT_FALSE(may) << d << " and " << d + e;
+      }
+      if (e > 90.0) {
+        EXPECT_TRUE(may) << d << " and " << d + e;
+      }
+    }
+  }
+  // The faces of a pore's corners, exactly perpendicular, and opposite faces.
+  for (const auto& [ax, ay, bx, by] : {std::array{1, 0, 0, 1}, {0, 1, -1, 0}, {-1, 0, 0, -1},
+                                       {0, -1, 1, 0}}) {
+    EXPECT_FALSE(may_oppose(outside_windows(ax, ay) | outside_windows(bx, by)));
+    EXPECT_TRUE(may_oppose(outside_windows(ax, ay) | outside_windows(-ax, -ay)));
+  }
+  const double h = std::sqrt(0.5);
+  EXPECT_FALSE(may_oppose(outside_windows(h, h) | outside_windows(-h, h)));
 }
 
 }  // namespace
