@@ -99,7 +99,9 @@ inline std::size_t interleaved(std::size_t kk, std::size_t nb) {
 [[gnu::always_inline]] inline void windows_block(std::size_t n, const double* __restrict pnx,
                                                  const double* __restrict pny,
                                                  ScatterBlock* __restrict sb) {
-  for (std::size_t i = 0; i < n; ++i) sb->outside[i] = pore_contact::outside_windows(pnx[i], pny[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    sb->outside[i] = pore_contact::outside_windows(pnx[i], pny[i]);
+  }
 }
 
 // The scatter of particles [begin, end) into `out`, one block at a time (run_loop in

@@ -61,17 +61,19 @@ struct NodeArrays {
 
 // split_fields: the nodes of this step whose two fields may differ from one (not full, normals
 // that may oppose; pore_contact.hpp), and the particles that reach them (p2g_split_fields.cpp).
-// Sized once; only the nodes listed are set in `node`, hold a normal and a second field.
+// Sized once (the bands and the threads' lists on the first step); only the listed nodes are
+// set in `node`, hold a normal and a second field.
 struct SplitNodes {
-  std::vector<std::uint8_t> node;      // node[k]: node k is listed
-  std::vector<std::uint8_t> reach;     // reach[k]: a stencil that starts at node k holds a listed one
-  std::vector<std::uint32_t> nodes;    // the listed nodes
-  std::vector<std::uint32_t> particles;  // the particles whose stencil holds a listed node, by band
+  std::vector<std::uint8_t> node;         // node[k]: node k is listed
+  std::vector<std::uint8_t> reach;        // reach[k]: the stencil from node k holds a listed one
+  std::vector<std::uint32_t> nodes;       // the listed nodes
+  std::vector<std::uint32_t> particles;   // the particles that reach a listed node, by band
   std::vector<std::uint32_t> band_begin;  // band c's particles from particles[band_begin[c]]
   std::vector<std::uint32_t> band_fill;   // the counting sort's work array
-  std::vector<std::vector<std::uint32_t>> thread_nodes, thread_particles;  // each thread's
+  std::vector<std::vector<std::uint32_t>> thread_nodes;      // each thread's listed nodes
+  std::vector<std::vector<std::uint32_t>> thread_particles;  // and particles
   std::vector<std::uint32_t> first_node;  // each particle's first stencil node (p2g)
-  std::vector<NodeNormal> normal;      // the node normal, sum of w n_p, on the listed nodes
+  std::vector<NodeNormal> normal;         // the node normal, sum of w n_p, on the listed nodes
 };
 
 struct Grid {
