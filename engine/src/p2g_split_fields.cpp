@@ -13,8 +13,9 @@
 //      again, each pair into the field its normal picks (pore_contact::second_field), which its
 //      field bits record for g2p.
 // Every other node keeps its one field: its particles' normals share a window (within 90 degrees
-// of each other) or it is full, so two fields would hold the same, or merge into the same. In
-// the reference scene about 3 % of the nodes are listed, reached by a fifth of the particles.
+// of each other) or it is full, so two fields would hold the same, or merge into the same.
+// The listed nodes are a few percent of the grid, reached by a fifth to a third of the
+// particles as pores close (bench/results/split_fields_listed.md).
 // Threads list a share of the rows and of the particles each; steps 4 and 5 go by bands of
 // rows (band_of), the even bands at once and then the odd ones, in the same order with any
 // number of threads, so a listed node's fields have the same bits with any number of threads.

@@ -55,6 +55,7 @@ void build_grid(const SceneParams& p, Grid& g) {
     g.split.normal.assign(nodes, NodeNormal{0, 0});
   }
   g.scratch.assign(static_cast<std::size_t>(p.threads - 1), g.arrays);
+  for (NodeArrays& a : g.scratch) a.nodes.resize(nodes);  // threads scatter the first field only
   g.scatter_rows.resize(p.threads, g.ny);
 }
 
